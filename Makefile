@@ -1,0 +1,60 @@
+# The user's entry point (as PX4's `make px4_sitl`): `make sim`, `make test`.
+# Both first run `make deps`, which installs missing Debian packages (as root).
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+
+DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-none-eabi \
+                   qemu-system-arm libeigen3-dev doctest-dev nlohmann-json3-dev \
+                   libcli11-dev libfmt-dev libbenchmark-dev
+FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
+HIL_SIM := build/host-release/hil_sim/hil_sim
+
+.PHONY: help deps test sim host-debug host-release cortex-m7 size clean
+
+help:
+	@echo "make sim    - build everything and run the simulator against the Cortex-M7 firmware under QEMU"
+	@echo "make test   - host-debug (ASan+UBSan) tests, cortex-m7 build + size report, host-release tests incl. QEMU"
+	@echo "make deps   - install missing Debian packages (idempotent; needs root)"
+	@echo "make size   - ARM size report (text, data, bss) of the firmware"
+
+deps:
+	@missing=""; \
+	for p in $(DEBIAN_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "deps: installing$$missing"; \
+	  apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; \
+	else \
+	  echo "deps: all Debian packages present"; \
+	fi
+
+host-debug:
+	cmake --preset host-debug
+	cmake --build --preset host-debug
+
+cortex-m7:
+	cmake --preset cortex-m7
+	cmake --build --preset cortex-m7
+
+host-release: cortex-m7
+	cmake --preset host-release
+	cmake --build --preset host-release
+
+size: cortex-m7
+	@echo "== ARM size report: $(FIRMWARE_ELF)"
+	@arm-none-eabi-size -A -d $(FIRMWARE_ELF) | grep -E "^(section|\.isr_vector|\.text|\.data|\.bss|\.stack)"
+	@arm-none-eabi-size $(FIRMWARE_ELF)
+
+test: deps
+	$(MAKE) --no-print-directory host-debug
+	ctest --preset host-debug
+	$(MAKE) --no-print-directory size
+	$(MAKE) --no-print-directory host-release
+	ctest --preset host-release
+
+sim: deps host-release
+	$(HIL_SIM) ping --target qemu --firmware $(FIRMWARE_ELF) --count 10 --garbage
+
+clean:
+	rm -rf build

@@ -1,0 +1,40 @@
+#pragma once
+// The target-independent heart of the firmware: received bytes in, encoded
+// reply frames out. The port's main loop moves bytes between the serial line
+// and this object; everything else (framing, dispatch, replies) happens here,
+// where the host tests can reach it without any port.
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "itp/link/frame_decoder.hpp"
+
+namespace itp::app {
+
+class FirmwareService {
+ public:
+  // All-zero initial state, so a static instance lands in .bss, not .data.
+  constexpr FirmwareService() = default;
+  // `build_id` must outlive the service (a string literal in practice).
+  void set_build_id(const char* build_id) { build_id_ = build_id; }
+
+  // Feeds one received byte. Returns the encoded reply frame to send (a view
+  // into an internal buffer, valid until the next call), or an empty span.
+  std::span<const std::uint8_t> on_byte(std::uint8_t byte);
+
+  const link::LinkCounters& counters() const { return decoder_.counters(); }
+  std::uint32_t replies_sent() const { return replies_; }
+
+ private:
+  std::span<const std::uint8_t> dispatch(const link::FrameView& frame);
+  std::span<const std::uint8_t> reply(link::MessageType type, std::uint16_t sequence,
+                                      std::size_t payload_size);
+
+  const char* build_id_ = nullptr;
+  link::FrameDecoder decoder_;
+  std::array<std::uint8_t, config::kMaxPayloadBytes> payload_{};   // reply body
+  std::array<std::uint8_t, link::kMaxWireFrameBytes> tx_{};          // encoded reply
+  std::uint32_t replies_ = 0;
+};
+
+}  // namespace itp::app

@@ -1,0 +1,50 @@
+#pragma once
+// Message bodies carried in link frames, and their byte layouts
+// (docs/protocol.md). Each encode returns the payload size (0 if it does not
+// fit); each decode returns false on a malformed body.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "itp/config.hpp"
+#include "itp/link/frame_decoder.hpp"
+
+namespace itp::link {
+
+struct Ping {
+  std::uint32_t nonce = 0;  // echoed in the Pong
+};
+
+struct Pong {
+  std::uint32_t nonce = 0;
+  std::uint8_t protocol_version = kProtocolVersion;
+  std::array<char, config::kBuildIdBytes> build_id{};  // NUL-padded text
+  LinkCounters counters{};  // the firmware's receive counters
+};
+
+enum class ErrorCode : std::uint8_t {
+  kUnsupportedMessage = 1,  // a well-formed frame of a type the firmware does not serve
+  kMalformedPayload = 2,    // right type, body of the wrong size or content
+};
+
+struct ErrorReply {
+  ErrorCode code = ErrorCode::kUnsupportedMessage;
+  std::uint8_t request_type = 0;
+};
+
+inline constexpr std::size_t kPingBytes = 4;
+inline constexpr std::size_t kPongBytes = 4 + 1 + config::kBuildIdBytes + 6 * 4;
+inline constexpr std::size_t kErrorBytes = 2;
+
+std::size_t encode(const Ping& msg, std::span<std::uint8_t> out);
+std::size_t encode(const Pong& msg, std::span<std::uint8_t> out);
+std::size_t encode(const ErrorReply& msg, std::span<std::uint8_t> out);
+bool decode(std::span<const std::uint8_t> in, Ping& msg);
+bool decode(std::span<const std::uint8_t> in, Pong& msg);
+bool decode(std::span<const std::uint8_t> in, ErrorReply& msg);
+
+// Copies `text` into a fixed NUL-padded field, truncating if needed.
+void set_build_id(Pong& msg, const char* text);
+
+}  // namespace itp::link

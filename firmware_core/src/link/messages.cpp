@@ -1,0 +1,88 @@
+#include "itp/link/messages.hpp"
+
+#include "itp/link/byte_codec.hpp"
+
+namespace itp::link {
+namespace {
+
+void put_counters(ByteWriter& w, const LinkCounters& c) {
+  w.u32(c.frames_ok);
+  w.u32(c.cobs_errors);
+  w.u32(c.length_errors);
+  w.u32(c.crc_errors);
+  w.u32(c.version_errors);
+  w.u32(c.overflows);
+}
+
+LinkCounters get_counters(ByteReader& r) {
+  LinkCounters c;
+  c.frames_ok = r.u32();
+  c.cobs_errors = r.u32();
+  c.length_errors = r.u32();
+  c.crc_errors = r.u32();
+  c.version_errors = r.u32();
+  c.overflows = r.u32();
+  return c;
+}
+
+std::size_t finish(const ByteWriter& w) { return w.ok() ? w.size() : 0; }
+
+}  // namespace
+
+std::size_t encode(const Ping& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u32(msg.nonce);
+  return finish(w);
+}
+
+std::size_t encode(const Pong& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u32(msg.nonce);
+  w.u8(msg.protocol_version);
+  for (char c : msg.build_id) {  // kBuildIdBytes
+    w.u8(static_cast<std::uint8_t>(c));
+  }
+  put_counters(w, msg.counters);
+  return finish(w);
+}
+
+std::size_t encode(const ErrorReply& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u8(static_cast<std::uint8_t>(msg.code));
+  w.u8(msg.request_type);
+  return finish(w);
+}
+
+bool decode(std::span<const std::uint8_t> in, Ping& msg) {
+  ByteReader r(in);
+  msg.nonce = r.u32();
+  return r.done();
+}
+
+bool decode(std::span<const std::uint8_t> in, Pong& msg) {
+  ByteReader r(in);
+  msg.nonce = r.u32();
+  msg.protocol_version = r.u8();
+  for (char& c : msg.build_id) {  // kBuildIdBytes
+    c = static_cast<char>(r.u8());
+  }
+  msg.counters = get_counters(r);
+  // The build id must be NUL-terminated inside its field.
+  return r.done() && msg.build_id.back() == '\0';
+}
+
+bool decode(std::span<const std::uint8_t> in, ErrorReply& msg) {
+  ByteReader r(in);
+  msg.code = static_cast<ErrorCode>(r.u8());
+  msg.request_type = r.u8();
+  return r.done();
+}
+
+void set_build_id(Pong& msg, const char* text) {
+  msg.build_id.fill('\0');
+  for (std::size_t i = 0; i + 1 < msg.build_id.size() && text[i] != '\0'; ++i) {  // kBuildIdBytes
+    msg.build_id[i] = text[i];
+  }
+}
+
+}  // namespace itp::link

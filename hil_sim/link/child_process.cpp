@@ -1,0 +1,130 @@
+#include "link/child_process.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <stdexcept>
+#include <thread>
+
+namespace hil {
+
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& stderr_path) {
+  int in_pipe[2];
+  int out_pipe[2];
+  if (pipe(in_pipe) != 0 || pipe(out_pipe) != 0) {
+    throw std::runtime_error("pipe() failed");
+  }
+  // A peer that dies mid-write must not kill the simulator.
+  signal(SIGPIPE, SIG_IGN);
+  std::vector<char*> args;
+  for (const auto& a : argv) {
+    args.push_back(const_cast<char*>(a.c_str()));
+  }
+  args.push_back(nullptr);
+  pid_ = fork();
+  if (pid_ < 0) {
+    throw std::runtime_error("fork() failed");
+  }
+  if (pid_ == 0) {
+    dup2(in_pipe[0], STDIN_FILENO);
+    dup2(out_pipe[1], STDOUT_FILENO);
+    if (!stderr_path.empty()) {
+      const int fd = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (fd >= 0) {
+        dup2(fd, STDERR_FILENO);
+        close(fd);
+      }
+    }
+    close(in_pipe[0]);
+    close(in_pipe[1]);
+    close(out_pipe[0]);
+    close(out_pipe[1]);
+    execvp(args[0], args.data());
+    _exit(127);
+  }
+  close(in_pipe[0]);
+  close(out_pipe[1]);
+  to_child_ = in_pipe[1];
+  from_child_ = out_pipe[0];
+  fcntl(from_child_, F_SETFL, fcntl(from_child_, F_GETFL) | O_NONBLOCK);
+}
+
+ChildProcess::~ChildProcess() { stop(); }
+
+bool ChildProcess::write_all(std::span<const std::uint8_t> bytes) {
+  std::size_t sent = 0;
+  while (sent < bytes.size()) {
+    const ssize_t n = write(to_child_, bytes.data() + sent, bytes.size() - sent);
+    if (n < 0) {
+      if (errno == EINTR) {
+        continue;
+      }
+      return false;
+    }
+    sent += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+std::size_t ChildProcess::read_some(std::span<std::uint8_t> buffer,
+                                    std::chrono::milliseconds timeout) {
+  pollfd pfd{from_child_, POLLIN, 0};
+  const int ready = poll(&pfd, 1, static_cast<int>(timeout.count()));
+  if (ready <= 0) {
+    return 0;
+  }
+  const ssize_t n = read(from_child_, buffer.data(), buffer.size());
+  return n > 0 ? static_cast<std::size_t>(n) : 0;
+}
+
+bool ChildProcess::running() {
+  if (pid_ <= 0) {
+    return false;
+  }
+  int status = 0;
+  if (waitpid(pid_, &status, WNOHANG) == pid_) {
+    pid_ = -1;
+    return false;
+  }
+  return true;
+}
+
+void ChildProcess::stop() {
+  if (to_child_ >= 0) {
+    close(to_child_);
+    to_child_ = -1;
+  }
+  if (pid_ > 0) {
+    kill(pid_, SIGTERM);
+    for (int i = 0; i < 100 && running(); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+      pid_ = -1;
+    }
+  }
+  if (from_child_ >= 0) {
+    close(from_child_);
+    from_child_ = -1;
+  }
+}
+
+std::vector<std::string> qemu_command(const std::string& elf, const std::string& log_path) {
+  // UART0 carries the link on stdio; UART1 (the firmware's log) goes to a file or nowhere.
+  return {"qemu-system-arm", "-M", "mps2-an500", "-nographic", "-monitor", "none",
+          "-icount", "shift=0", "-serial", "stdio",
+          "-serial", log_path.empty() ? std::string("null") : "file:" + log_path,
+          "-kernel", elf};
+}
+
+std::vector<std::string> host_firmware_command(const std::string& executable) {
+  return {executable};
+}
+
+}  // namespace hil

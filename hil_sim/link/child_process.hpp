@@ -1,0 +1,38 @@
+#pragma once
+// A child process whose stdin/stdout are the serial line: the host-port
+// firmware, or qemu-system-arm with the firmware's UART0 on -serial stdio.
+#include <string>
+#include <vector>
+
+#include "link/byte_transport.hpp"
+
+namespace hil {
+
+class ChildProcess final : public ByteTransport {
+ public:
+  // argv[0] is looked up in PATH. `stderr_path` receives the child's stderr
+  // ("" keeps the parent's). Throws std::runtime_error if it cannot start.
+  ChildProcess(const std::vector<std::string>& argv, const std::string& stderr_path);
+  ~ChildProcess() override;
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  bool write_all(std::span<const std::uint8_t> bytes) override;
+  std::size_t read_some(std::span<std::uint8_t> buffer,
+                        std::chrono::milliseconds timeout) override;
+
+  bool running();
+  // Ends the child (SIGTERM, then SIGKILL) and reaps it.
+  void stop();
+
+ private:
+  int pid_ = -1;
+  int to_child_ = -1;    // child's stdin
+  int from_child_ = -1;  // child's stdout
+};
+
+// Command lines for the two process targets.
+std::vector<std::string> qemu_command(const std::string& elf, const std::string& log_path);
+std::vector<std::string> host_firmware_command(const std::string& executable);
+
+}  // namespace hil

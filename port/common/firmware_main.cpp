@@ -1,0 +1,54 @@
+// The firmware's main loop, the same on every target: it uses only the port
+// API and moves bytes between the serial line and the FirmwareService.
+#include <array>
+#include <cstdint>
+
+#include "itp/app/firmware_service.hpp"
+#include "port/firmware_run.hpp"
+#include "port/port.hpp"
+
+namespace {
+
+// Static storage: the service owns large fixed buffers that do not belong on
+// the stack. Constant-initialised, so no start-up code runs for it.
+constinit itp::app::FirmwareService g_service;
+
+void send_all(std::span<const std::uint8_t> bytes) {
+  std::size_t sent = 0;
+  while (sent < bytes.size() && port::keep_running()) {  // each pass sends >= 1 byte or idles
+    const std::size_t n = port::serial_write(bytes.subspan(sent));
+    if (n == 0) {
+      port::idle();
+    }
+    sent += n;
+  }
+}
+
+}  // namespace
+
+// Runs until the port reports the link gone (host) or forever (target). The
+// target's reset handler calls this directly; hosts enter through main().
+void firmware_run() {
+  port::init();
+  g_service.set_build_id(ITP_BUILD_ID);
+  port::log_line("itplan firmware " ITP_BUILD_ID " ready");
+  std::array<std::uint8_t, 64> rx{};
+  while (port::keep_running()) {  // the superloop: runs for the life of the device
+    const std::size_t n = port::serial_read(rx);
+    if (n == 0) {
+      port::idle();
+      continue;
+    }
+    for (std::size_t i = 0; i < n; ++i) {  // n <= rx.size()
+      const std::span<const std::uint8_t> reply = g_service.on_byte(rx[i]);
+      if (!reply.empty()) {
+        send_all(reply);
+      }
+    }
+  }
+}
+
+int main() {
+  firmware_run();
+  return 0;
+}

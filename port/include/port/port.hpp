@@ -1,0 +1,31 @@
+#pragma once
+// The port: the handful of free functions through which the firmware touches
+// its platform. One implementation per target (port/host, port/mps2_an500),
+// chosen at link time. firmware_core never includes this header.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+namespace port {
+
+void init();
+
+// Monotonic counter and its rate. On mps2-an500 under `-icount shift=0` one
+// tick is a fixed number of guest instructions (docs/port.md).
+std::uint64_t counter_ticks();
+std::uint64_t counter_hz();
+
+// Non-blocking serial bytes: both return how many bytes they moved, maybe 0.
+std::size_t serial_read(std::span<std::uint8_t> buffer);
+std::size_t serial_write(std::span<const std::uint8_t> bytes);
+
+// One line of diagnostics on a channel separate from the data link.
+void log_line(const char* text);
+
+// Called when there is nothing to do; may wait briefly for input.
+void idle();
+
+// False once the link is gone for good (host: the peer closed the pipe).
+bool keep_running();
+
+}  // namespace port

@@ -1,0 +1,41 @@
+#pragma once
+// Memory-mapped peripherals of the Arm MPS2 AN500 image (Cortex-M7) that the
+// port uses, as QEMU's `-M mps2-an500` models them.
+#include <cstdint>
+
+namespace port::mps2 {
+
+inline constexpr std::uintptr_t kTimer0Base = 0x40000000u;  // CMSDK APB timer 0
+inline constexpr std::uintptr_t kUart0Base = 0x40004000u;   // data link (-serial #1)
+inline constexpr std::uintptr_t kUart1Base = 0x40005000u;   // log lines (-serial #2)
+inline constexpr std::uintptr_t kCpacr = 0xE000ED88u;       // coprocessor access control
+
+// Peripheral clock of the APB timers: 25 MHz. Under `-icount shift=0` the
+// guest runs one instruction per virtual nanosecond, so one tick = 40 instructions.
+inline constexpr std::uint32_t kTimerHz = 25000000u;
+
+struct CmsdkUart {
+  volatile std::uint32_t data;       // 0x00
+  volatile std::uint32_t state;      // 0x04 bit0 TX full, bit1 RX full
+  volatile std::uint32_t ctrl;       // 0x08 bit0 TX enable, bit1 RX enable
+  volatile std::uint32_t intstatus;  // 0x0C
+  volatile std::uint32_t bauddiv;    // 0x10
+};
+
+struct CmsdkTimer {
+  volatile std::uint32_t ctrl;       // 0x00 bit0 enable
+  volatile std::uint32_t value;      // 0x04 counts down at kTimerHz
+  volatile std::uint32_t reload;     // 0x08
+  volatile std::uint32_t intstatus;  // 0x0C
+};
+
+inline constexpr std::uint32_t kUartTxFull = 1u << 0;
+inline constexpr std::uint32_t kUartRxFull = 1u << 1;
+inline constexpr std::uint32_t kUartTxEnable = 1u << 0;
+inline constexpr std::uint32_t kUartRxEnable = 1u << 1;
+
+inline CmsdkUart& uart0() { return *reinterpret_cast<CmsdkUart*>(kUart0Base); }
+inline CmsdkUart& uart1() { return *reinterpret_cast<CmsdkUart*>(kUart1Base); }
+inline CmsdkTimer& timer0() { return *reinterpret_cast<CmsdkTimer*>(kTimer0Base); }
+
+}  // namespace port::mps2

@@ -1,0 +1,82 @@
+// Port functions for the MPS2 AN500 under QEMU: UART0 carries the link, UART1
+// the log, APB timer 0 is the counter (extended to 64 bits in software).
+#include <cstring>
+
+#include "mps2_an500.hpp"
+#include "port/port.hpp"
+
+namespace port {
+namespace {
+
+std::uint32_t g_last_low = 0;   // last 32-bit reading, to detect a wrap
+std::uint64_t g_high = 0;       // wraps seen, << 32
+
+void uart_put_blocking(mps2::CmsdkUart& uart, std::uint8_t byte) {
+  for (int spin = 0; spin < 1000000 && (uart.state & mps2::kUartTxFull) != 0u; ++spin) {
+  }
+  uart.data = byte;
+}
+
+}  // namespace
+
+void init() {
+  auto& link = mps2::uart0();
+  link.bauddiv = 16u;
+  link.ctrl = mps2::kUartTxEnable | mps2::kUartRxEnable;
+  auto& log = mps2::uart1();
+  log.bauddiv = 16u;
+  log.ctrl = mps2::kUartTxEnable;
+
+  auto& timer = mps2::timer0();
+  timer.ctrl = 0u;
+  timer.reload = 0xFFFFFFFFu;
+  timer.value = 0xFFFFFFFFu;
+  timer.ctrl = 1u;
+}
+
+std::uint64_t counter_ticks() {
+  // The timer counts down; elapsed ticks = ~value. Callers read it at least
+  // once per wrap period (about 171 s at 25 MHz), which the main loop does.
+  const std::uint32_t low = ~mps2::timer0().value;
+  if (low < g_last_low) {
+    g_high += (std::uint64_t{1} << 32);
+  }
+  g_last_low = low;
+  return g_high | low;
+}
+
+std::uint64_t counter_hz() { return mps2::kTimerHz; }
+
+std::size_t serial_read(std::span<std::uint8_t> buffer) {
+  auto& uart = mps2::uart0();
+  std::size_t n = 0;
+  while (n < buffer.size() && (uart.state & mps2::kUartRxFull) != 0u) {  // bounded by buffer
+    buffer[n++] = static_cast<std::uint8_t>(uart.data);
+  }
+  return n;
+}
+
+std::size_t serial_write(std::span<const std::uint8_t> bytes) {
+  auto& uart = mps2::uart0();
+  std::size_t n = 0;
+  while (n < bytes.size() && (uart.state & mps2::kUartTxFull) == 0u) {  // bounded by bytes
+    uart.data = bytes[n++];
+  }
+  return n;
+}
+
+void log_line(const char* text) {
+  const std::size_t len = std::strlen(text);
+  for (std::size_t i = 0; i < len; ++i) {
+    uart_put_blocking(mps2::uart1(), static_cast<std::uint8_t>(text[i]));
+  }
+  uart_put_blocking(mps2::uart1(), '\n');
+}
+
+void idle() {
+  static_cast<void>(counter_ticks());  // keeps the 64-bit extension current
+}
+
+bool keep_running() { return true; }
+
+}  // namespace port

@@ -1,0 +1,53 @@
+#include <doctest/doctest.h>
+
+#include <array>
+#include <cstring>
+#include <string>
+
+#include "itp/link/messages.hpp"
+
+using namespace itp::link;
+
+TEST_CASE("Pong encodes and decodes every field") {
+  Pong pong;
+  pong.nonce = 0xDEADBEEFu;
+  set_build_id(pong, "itplan-test-build");
+  pong.counters.frames_ok = 5;
+  pong.counters.crc_errors = 2;
+  pong.counters.overflows = 1;
+  std::array<std::uint8_t, kPongBytes> buf{};
+  REQUIRE(encode(pong, buf) == kPongBytes);
+  Pong back;
+  REQUIRE(decode(buf, back));
+  CHECK(back.nonce == 0xDEADBEEFu);
+  CHECK(std::strcmp(back.build_id.data(), "itplan-test-build") == 0);
+  CHECK(back.counters.frames_ok == 5);
+  CHECK(back.counters.crc_errors == 2);
+  CHECK(back.counters.overflows == 1);
+  CHECK(back.counters.dropped() == 3);
+}
+
+TEST_CASE("message decoders reject bodies of the wrong size") {
+  std::array<std::uint8_t, 3> short_ping{};
+  Ping ping;
+  CHECK_FALSE(decode(short_ping, ping));
+  std::array<std::uint8_t, 5> long_ping{};
+  CHECK_FALSE(decode(long_ping, ping));
+  std::array<std::uint8_t, kPongBytes - 1> short_pong{};
+  Pong pong;
+  CHECK_FALSE(decode(short_pong, pong));
+}
+
+TEST_CASE("an overlong build id is truncated and stays NUL-terminated") {
+  Pong pong;
+  std::string id(200, 'x');
+  set_build_id(pong, id.c_str());
+  CHECK(pong.build_id.back() == '\0');
+  CHECK(std::strlen(pong.build_id.data()) == pong.build_id.size() - 1);
+}
+
+TEST_CASE("encoders report a buffer that is too small") {
+  Pong pong;
+  std::array<std::uint8_t, 10> small{};
+  CHECK(encode(pong, small) == 0);
+}

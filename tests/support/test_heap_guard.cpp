@@ -1,0 +1,39 @@
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+#include "heap_guard.hpp"
+
+using test_support::HeapGuard;
+
+TEST_CASE("heap guard counts operator new inside its scope") {
+  HeapGuard guard(HeapGuard::Mode::kObserveOnly);
+  auto p = std::make_unique<int>(7);
+  std::vector<double> v(100);
+  CHECK(guard.allocations() == 2);
+}
+
+TEST_CASE("heap guard counts malloc and calloc") {
+  HeapGuard guard(HeapGuard::Mode::kObserveOnly);
+  void* a = std::malloc(16);
+  void* b = std::calloc(4, 4);
+  std::free(a);
+  std::free(b);
+  CHECK(guard.allocations() == 2);
+}
+
+TEST_CASE("heap guard ignores allocations outside its scope") {
+  auto before = std::make_unique<int>(1);
+  std::size_t seen = 0;
+  {
+    HeapGuard guard;  // fails this test if anything below allocates
+    int local[8] = {};
+    local[3] = *before;
+    seen = guard.allocations();
+    CHECK(local[3] == 1);
+  }
+  auto after = std::make_unique<int>(2);
+  CHECK(seen == 0);
+}
