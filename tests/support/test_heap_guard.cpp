@@ -8,17 +8,26 @@
 
 using test_support::HeapGuard;
 
+namespace {
+// Allocations must escape, or an optimising compiler may elide a malloc/free pair.
+void* volatile g_sink = nullptr;
+}  // namespace
+
 TEST_CASE("heap guard counts operator new inside its scope") {
   HeapGuard guard(HeapGuard::Mode::kObserveOnly);
   auto p = std::make_unique<int>(7);
   std::vector<double> v(100);
+  g_sink = p.get();
+  g_sink = v.data();
   CHECK(guard.allocations() == 2);
 }
 
 TEST_CASE("heap guard counts malloc and calloc") {
   HeapGuard guard(HeapGuard::Mode::kObserveOnly);
   void* a = std::malloc(16);
+  g_sink = a;
   void* b = std::calloc(4, 4);
+  g_sink = b;
   std::free(a);
   std::free(b);
   CHECK(guard.allocations() == 2);
