@@ -62,6 +62,10 @@ int run_ping(const PingOptions& opt) {
 
   int failures = 0;
   std::string build_id;
+  std::uint64_t first_ticks = 0;
+  std::uint64_t last_ticks = 0;
+  std::uint64_t tick_hz = 0;
+  bool counter_ok = true;
   itp::link::LinkCounters fw_counters;
   for (int i = 0; i < opt.count; ++i) {
     if (opt.garbage && i % 2 == 1) {
@@ -83,7 +87,14 @@ int run_ping(const PingOptions& opt) {
     }
     build_id = pong.build_id.data();
     fw_counters = pong.counters;
-    fmt::print("ping {:3}: pong in {:7.2f} ms\n", i, ms);
+    if (first_ticks == 0) {
+      first_ticks = pong.ticks;
+    } else if (pong.ticks <= last_ticks) {
+      counter_ok = false;  // the port's counter must be monotonic and running
+    }
+    last_ticks = pong.ticks;
+    tick_hz = pong.tick_hz;
+    fmt::print("ping {:3}: pong in {:7.2f} ms, firmware counter {} ticks\n", i, ms, pong.ticks);
   }
   const auto& cc = client.counters();
   fmt::print("firmware build id : {}\n", build_id.empty() ? "(none)" : build_id);
@@ -92,6 +103,12 @@ int run_ping(const PingOptions& opt) {
              fw_counters.frames_ok, fw_counters.dropped(), fw_counters.cobs_errors,
              fw_counters.length_errors, fw_counters.crc_errors, fw_counters.version_errors,
              fw_counters.overflows);
+  fmt::print("firmware counter  : {} Hz, {} ticks between first and last pong\n", tick_hz,
+             last_ticks - first_ticks);
+  if (!counter_ok || tick_hz == 0) {
+    fmt::print("error: the firmware's counter is not running or not monotonic\n");
+    ++failures;
+  }
   if (opt.garbage && opt.count > 2 && fw_counters.dropped() == 0) {
     fmt::print("error: garbage was sent but the firmware counted no dropped frame\n");
     ++failures;

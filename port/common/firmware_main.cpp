@@ -31,6 +31,7 @@ void send_all(std::span<const std::uint8_t> bytes) {
 void firmware_run() {
   port::init();
   g_service.set_build_id(ITP_BUILD_ID);
+  g_service.set_tick_source(itp::TickSource{&port::counter_ticks, port::counter_hz()});
   port::log_line("itplan firmware " ITP_BUILD_ID " ready");
   std::array<std::uint8_t, 64> rx{};
   while (port::keep_running()) {  // the superloop: runs for the life of the device

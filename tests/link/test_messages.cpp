@@ -15,6 +15,8 @@ TEST_CASE("Pong encodes and decodes every field") {
   pong.counters.frames_ok = 5;
   pong.counters.crc_errors = 2;
   pong.counters.overflows = 1;
+  pong.ticks = 0x0123456789ABCDEFull;
+  pong.tick_hz = 25000000u;
   std::array<std::uint8_t, kPongBytes> buf{};
   REQUIRE(encode(pong, buf) == kPongBytes);
   Pong back;
@@ -25,6 +27,8 @@ TEST_CASE("Pong encodes and decodes every field") {
   CHECK(back.counters.crc_errors == 2);
   CHECK(back.counters.overflows == 1);
   CHECK(back.counters.dropped() == 3);
+  CHECK(back.ticks == 0x0123456789ABCDEFull);
+  CHECK(back.tick_hz == 25000000u);
 }
 
 TEST_CASE("message decoders reject bodies of the wrong size") {

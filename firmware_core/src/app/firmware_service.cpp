@@ -23,6 +23,8 @@ std::span<const std::uint8_t> FirmwareService::dispatch(const link::FrameView& f
       pong.nonce = ping.nonce;
       link::set_build_id(pong, build_id_ != nullptr ? build_id_ : "");
       pong.counters = decoder_.counters();
+      pong.ticks = ticks_.ticks();
+      pong.tick_hz = ticks_.hz;
       return reply(link::MessageType::kPong, seq, link::encode(pong, payload_));
     }
     default: {

@@ -43,6 +43,8 @@ std::size_t encode(const Pong& msg, std::span<std::uint8_t> out) {
     w.u8(static_cast<std::uint8_t>(c));
   }
   put_counters(w, msg.counters);
+  w.u64(msg.ticks);
+  w.u64(msg.tick_hz);
   return finish(w);
 }
 
@@ -67,6 +69,8 @@ bool decode(std::span<const std::uint8_t> in, Pong& msg) {
     c = static_cast<char>(r.u8());
   }
   msg.counters = get_counters(r);
+  msg.ticks = r.u64();
+  msg.tick_hz = r.u64();
   // The build id must be NUL-terminated inside its field.
   return r.done() && msg.build_id.back() == '\0';
 }

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <span>
 
+#include "itp/core/tick_source.hpp"
 #include "itp/link/frame_decoder.hpp"
 
 namespace itp::app {
@@ -17,6 +18,8 @@ class FirmwareService {
   constexpr FirmwareService() = default;
   // `build_id` must outlive the service (a string literal in practice).
   void set_build_id(const char* build_id) { build_id_ = build_id; }
+  // The port's counter, reported in Pong and used for per-stage timing.
+  void set_tick_source(TickSource source) { ticks_ = source; }
 
   // Feeds one received byte. Returns the encoded reply frame to send (a view
   // into an internal buffer, valid until the next call), or an empty span.
@@ -31,6 +34,7 @@ class FirmwareService {
                                       std::size_t payload_size);
 
   const char* build_id_ = nullptr;
+  TickSource ticks_{};
   link::FrameDecoder decoder_;
   std::array<std::uint8_t, config::kMaxPayloadBytes> payload_{};   // reply body
   std::array<std::uint8_t, link::kMaxWireFrameBytes> tx_{};          // encoded reply

@@ -21,6 +21,8 @@ struct Pong {
   std::uint8_t protocol_version = kProtocolVersion;
   std::array<char, config::kBuildIdBytes> build_id{};  // NUL-padded text
   LinkCounters counters{};  // the firmware's receive counters
+  std::uint64_t ticks = 0;    // the firmware's counter when it answered
+  std::uint64_t tick_hz = 0;  // [ticks/s]; 0 when the firmware has no counter
 };
 
 enum class ErrorCode : std::uint8_t {
@@ -34,7 +36,7 @@ struct ErrorReply {
 };
 
 inline constexpr std::size_t kPingBytes = 4;
-inline constexpr std::size_t kPongBytes = 4 + 1 + config::kBuildIdBytes + 6 * 4;
+inline constexpr std::size_t kPongBytes = 4 + 1 + config::kBuildIdBytes + 6 * 4 + 2 * 8;
 inline constexpr std::size_t kErrorBytes = 2;
 
 std::size_t encode(const Ping& msg, std::span<std::uint8_t> out);
