@@ -33,7 +33,11 @@ inline constexpr int kMaxPredictionSamples = 80;         // poses per dynamic ob
 inline constexpr int kMaxObstacles = kMaxStaticObstacles + kMaxDynamicObstacles;
 inline constexpr int kMaxSlices = 2 * kMaxObstacles + 1;
 inline constexpr int kMaxZonesPerSlice = kMaxObstacles + 1;  // gaps between N intervals
+inline constexpr int kMaxZones = kMaxSlices * kMaxZonesPerSlice;
 inline constexpr int kKeptDecisions = 20;                // K best decisions evaluated
+// Decision-tree search: nodes (zone visits) expanded per cycle, at most. The
+// branch-and-bound search stops there and keeps the best K found so far.
+inline constexpr int kMaxTreeNodes = 4096;
 inline constexpr int kCoarseSamples = 20;                // coarse (l, t) samples per decision
 
 // --- Path and speed QPs (paper 1.2, 1.3) ------------------------------------
@@ -45,6 +49,33 @@ inline constexpr int kSpeedVariables = (kSpeedBlocks + 1) * kKnotStates;  // 45
 
 // --- Iteration (paper 2) ----------------------------------------------------
 inline constexpr int kMaxPlannerIterations = 5;
+
+// --- Reference line and Frenet frame (docs/frenet.md) -------------------------
+// The smoothing spline is fitted through the polyline plus kReferenceEndMirror
+// mirrored points at each end (so the natural end condition does not flatten
+// the curvature at the real ends).
+inline constexpr int kReferenceEndMirror = 2;
+inline constexpr int kMaxReferenceKnots = kMaxReferencePoints + 2 * kReferenceEndMirror;
+inline constexpr Scalar kReferenceSmoothing = Scalar(16);       // [m^3] spline penalty lambda
+inline constexpr Scalar kMinReferencePointSpacing = Scalar(0.05);  // [m] closer = repeated point
+inline constexpr Scalar kMaxReferenceTurnPerPoint = Scalar(1.0471975511965976);  // [rad] 60 deg
+inline constexpr Scalar kMinReferenceLineLength = Scalar(20);   // [m]
+inline constexpr int kArcLengthNewtonSteps = 4;                 // s -> spline parameter
+inline constexpr int kProjectionNewtonSteps = 8;                // point -> foot point
+inline constexpr int kMaxBoxEdgeSamples = 16;                   // SL box: points per box edge
+inline constexpr Scalar kBoxEdgeSampleSpacing = Scalar(1);      // [m]
+
+// --- Scene validation (docs/scene.md) ----------------------------------------
+inline constexpr Scalar kMaxAbsoluteSpeed = Scalar(70);         // [m/s] speed limit and any speed
+inline constexpr Scalar kMaxAbsoluteAcceleration = Scalar(20);  // [m/s^2] ego a and limits
+inline constexpr Scalar kMaxAbsoluteCurvature = Scalar(1);      // [1/m] ego kappa and limit
+inline constexpr Scalar kMinLaneWidth = Scalar(2);              // [m]
+inline constexpr Scalar kMaxLaneWidth = Scalar(6);              // [m]
+inline constexpr Scalar kMaxBoundaryOffset = Scalar(50);        // [m] |l| of a road boundary
+inline constexpr Scalar kMaxObjectSize = Scalar(30);            // [m] box length/width
+inline constexpr Scalar kMaxCoordinate = Scalar(1.0e5);         // [m] |x|, |y|
+inline constexpr Scalar kMaxPredictionTime = Scalar(3600);      // [s] obstacle trajectory t
+inline constexpr Scalar kMaxEgoOffsetFromReference = Scalar(10);  // [m] ego to polyline
 
 // --- Serial link -------------------------------------------------------------
 inline constexpr std::size_t kMaxPayloadBytes = 16384;   // one message body

@@ -1,0 +1,85 @@
+#pragma once
+// Paper 1.1, first half: the non-convex drivable SL area split into convex
+// zones. The area is cut in s at every obstacle's s_min and s_max; in each
+// s-slice the free l-intervals between obstacles are the zones (Zone_i_j:
+// slice i, gap j). Zones narrower than the vehicle are dropped. A zone links
+// to a zone of the next slice when their l-intervals overlap by at least the
+// vehicle width. Fixed capacity: kMaxSlices x kMaxZonesPerSlice.
+#include <cstdint>
+#include <span>
+
+#include "itp/config.hpp"
+#include "itp/core/static_vector.hpp"
+#include "itp/decision/road_sl.hpp"
+
+namespace itp::decision {
+
+// An obstacle's footprint in the SL frame (already inflated by its margin).
+// A dynamic obstacle is placed where it is at its meeting time with the ego.
+struct SlBox {
+  Scalar s_min = 0;  // [m]
+  Scalar s_max = 0;  // [m]
+  Scalar l_min = 0;  // [m]
+  Scalar l_max = 0;  // [m]
+  std::int32_t obstacle_id = 0;
+  bool dynamic = false;
+};
+
+inline constexpr std::int16_t kRoadEdge = -1;  // a zone bounded by the road, not an obstacle
+
+struct Zone {
+  std::int16_t slice = 0;
+  Scalar s_begin = 0;          // [m]
+  Scalar s_end = 0;            // [m]
+  Scalar l_min = 0;            // [m] right edge of the free interval
+  Scalar l_max = 0;            // [m] left edge
+  Scalar area_cost = 0;        // 1 - area / largest zone area: larger zones cost less
+  Scalar lane_cost = 0;        // share of the target lane's width missing from the zone, [0, 1]
+  std::int16_t right_box = kRoadEdge;  // index of the box bounding it on the right
+  std::int16_t left_box = kRoadEdge;   // ... and on the left
+  std::uint16_t successors = 0;        // bit j: zone j of the next slice is linked
+
+  Scalar width() const { return l_max - l_min; }
+};
+
+struct Slice {
+  Scalar s_begin = 0;  // [m]
+  Scalar s_end = 0;    // [m]
+  std::int16_t first_zone = 0;  // index into ConvexSpace::zones
+  std::int16_t zone_count = 0;
+};
+
+struct ConvexSpaceParams {
+  Scalar s_start = 0;                  // [m] ego's s
+  Scalar s_end = config::kPathLength;  // [m] end of the SL horizon
+  Scalar vehicle_width = Scalar(1.9);  // [m] narrowest usable zone and link
+  Scalar ego_l = 0;                    // [m] picks the start zone
+};
+
+enum class ConvexSpaceStatus : std::uint8_t {
+  kOk = 0,
+  kInvalidInput,  // s_end <= s_start, non-finite values, inverted boxes, too many boxes
+  kNoStartZone,   // the ego's first slice has no zone wide enough for the vehicle
+};
+
+const char* to_string(ConvexSpaceStatus status);
+
+struct ConvexSpace {
+  StaticVector<Slice, config::kMaxSlices> slices;
+  StaticVector<Zone, config::kMaxZones> zones;
+  std::int16_t start_zone = -1;  // the ego's zone in slice 0
+  Scalar s_start = 0;            // [m]
+  Scalar s_end = 0;              // [m]
+  Scalar vehicle_width = 0;      // [m]
+
+  // Overlap of the l-intervals of two zones (negative when disjoint). [m]
+  static Scalar overlap(const Zone& a, const Zone& b);
+  const Zone& successor(const Zone& z, int bit) const;
+};
+
+// `boxes` may hold at most config::kMaxObstacles entries; boxes outside
+// [s_start, s_end] are ignored.
+ConvexSpaceStatus build_convex_space(const RoadSl& road, std::span<const SlBox> boxes,
+                                     const ConvexSpaceParams& params, ConvexSpace& out);
+
+}  // namespace itp::decision

@@ -1,0 +1,41 @@
+#pragma once
+// The drivable area in the SL frame: left and right edges as piecewise-linear
+// functions of s, and the target lane. Built from the scene by the planner.
+#include <array>
+
+#include "itp/config.hpp"
+#include "itp/core/static_vector.hpp"
+
+namespace itp::decision {
+
+// l(s), piecewise linear through (s, l) points sorted by s; constant beyond
+// the ends; a single point is a constant.
+class LateralProfile {
+ public:
+  struct Point {
+    Scalar s;  // [m]
+    Scalar l;  // [m]
+  };
+
+  static LateralProfile constant(Scalar l);
+  // Returns false when full or when s does not increase.
+  [[nodiscard]] bool add(Scalar s, Scalar l);
+
+  Scalar at(Scalar s) const;
+  // Extremes of l over [s0, s1] (at the ends or at interior points).
+  Scalar min_over(Scalar s0, Scalar s1) const;
+  Scalar max_over(Scalar s0, Scalar s1) const;
+  bool empty() const { return points_.empty(); }
+
+ private:
+  StaticVector<Point, config::kMaxBoundaryPoints> points_;
+};
+
+struct RoadSl {
+  LateralProfile left;            // [m] drivable edge, l grows to the left
+  LateralProfile right;           // [m]
+  Scalar lane_width = Scalar(3.5);          // [m]
+  Scalar target_lane_offset = Scalar(0);    // [m] l of the target lane's centre
+};
+
+}  // namespace itp::decision

@@ -1,0 +1,215 @@
+#include "itp/decision/convex_space.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace itp::decision {
+namespace {
+
+// Cuts closer than this merge: slivers would only add zones nobody can use.
+constexpr Scalar kMinSliceLength = Scalar(0.05);  // [m]
+constexpr int kMaxCuts = 2 * config::kMaxObstacles + 2;
+
+bool finite_box(const SlBox& b) {
+  return std::isfinite(b.s_min) && std::isfinite(b.s_max) && std::isfinite(b.l_min) &&
+         std::isfinite(b.l_max) && b.s_min <= b.s_max && b.l_min <= b.l_max;
+}
+
+Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
+
+// Sorted, de-duplicated cut positions in s: the slice edges.
+int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
+                 std::array<Scalar, kMaxCuts>& cuts) {
+  int n = 0;
+  cuts[static_cast<std::size_t>(n++)] = s0;
+  for (const SlBox& b : boxes) {  // <= kMaxObstacles
+    const Scalar edges[2] = {b.s_min, b.s_max};
+    for (Scalar e : edges) {
+      if (e > s0 && e < s1) {
+        cuts[static_cast<std::size_t>(n++)] = e;
+      }
+    }
+  }
+  cuts[static_cast<std::size_t>(n++)] = s1;
+  // Insertion sort: n <= kMaxCuts, and deterministic for equal keys.
+  for (int i = 1; i < n; ++i) {
+    const Scalar v = cuts[static_cast<std::size_t>(i)];
+    int j = i - 1;
+    for (; j >= 0 && cuts[static_cast<std::size_t>(j)] > v; --j) {
+      cuts[static_cast<std::size_t>(j + 1)] = cuts[static_cast<std::size_t>(j)];
+    }
+    cuts[static_cast<std::size_t>(j + 1)] = v;
+  }
+  int kept = 1;
+  for (int i = 1; i < n; ++i) {  // <= kMaxCuts
+    const Scalar v = cuts[static_cast<std::size_t>(i)];
+    if (v - cuts[static_cast<std::size_t>(kept - 1)] >= kMinSliceLength) {
+      cuts[static_cast<std::size_t>(kept++)] = v;
+    } else if (i == n - 1) {
+      cuts[static_cast<std::size_t>(kept - 1)] = v;  // the horizon end always stays
+    }
+  }
+  return kept;
+}
+
+struct Interval {
+  Scalar lo;
+  Scalar hi;
+  std::int16_t box;
+};
+
+// Free gaps of [road_lo, road_hi] between the boxes overlapping [sa, sb).
+void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
+                     Scalar road_hi, const ConvexSpaceParams& params, std::int16_t slice_index,
+                     ConvexSpace& out) {
+  std::array<Interval, config::kMaxObstacles> blocked{};
+  int n = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {  // <= kMaxObstacles
+    const SlBox& b = boxes[i];
+    if (b.s_max > sa && b.s_min < sb && b.l_max > road_lo && b.l_min < road_hi) {
+      blocked[static_cast<std::size_t>(n++)] = Interval{b.l_min, b.l_max, static_cast<std::int16_t>(i)};
+    }
+  }
+  for (int i = 1; i < n; ++i) {  // insertion sort by lo; n <= kMaxObstacles
+    const Interval v = blocked[static_cast<std::size_t>(i)];
+    int j = i - 1;
+    for (; j >= 0 && blocked[static_cast<std::size_t>(j)].lo > v.lo; --j) {
+      blocked[static_cast<std::size_t>(j + 1)] = blocked[static_cast<std::size_t>(j)];
+    }
+    blocked[static_cast<std::size_t>(j + 1)] = v;
+  }
+  Slice slice;
+  slice.s_begin = sa;
+  slice.s_end = sb;
+  slice.first_zone = static_cast<std::int16_t>(out.zones.size());
+  Scalar cursor = road_lo;
+  std::int16_t cursor_box = kRoadEdge;
+  // n + 1 gaps at most: before each blocked interval, and after the last.
+  for (int i = 0; i <= n; ++i) {
+    const bool last = i == n;
+    const Scalar gap_hi = last ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
+    const std::int16_t gap_hi_box = last ? kRoadEdge : blocked[static_cast<std::size_t>(i)].box;
+    if (gap_hi - cursor >= params.vehicle_width && slice.zone_count < config::kMaxZonesPerSlice) {
+      Zone z;
+      z.slice = slice_index;
+      z.s_begin = sa;
+      z.s_end = sb;
+      z.l_min = cursor;
+      z.l_max = gap_hi;
+      z.right_box = cursor_box;
+      z.left_box = gap_hi_box;
+      static_cast<void>(out.zones.push_back(z));  // capacity = slices x zones per slice
+      ++slice.zone_count;
+    }
+    if (!last && blocked[static_cast<std::size_t>(i)].hi > cursor) {
+      cursor = blocked[static_cast<std::size_t>(i)].hi;
+      cursor_box = blocked[static_cast<std::size_t>(i)].box;
+    }
+  }
+  static_cast<void>(out.slices.push_back(slice));
+}
+
+void compute_zone_costs(const RoadSl& road, ConvexSpace& out) {
+  Scalar area_max = 0;
+  for (const Zone& z : out.zones) {  // <= kMaxZones
+    const Scalar area = (z.s_end - z.s_begin) * z.width();
+    area_max = area > area_max ? area : area_max;
+  }
+  const Scalar lane_lo = road.target_lane_offset - Scalar(0.5) * road.lane_width;
+  const Scalar lane_hi = road.target_lane_offset + Scalar(0.5) * road.lane_width;
+  for (Zone& z : out.zones) {  // <= kMaxZones
+    const Scalar area = (z.s_end - z.s_begin) * z.width();
+    z.area_cost = area_max > 0 ? Scalar(1) - area / area_max : Scalar(0);
+    const Scalar lo = z.l_min > lane_lo ? z.l_min : lane_lo;
+    const Scalar hi = z.l_max < lane_hi ? z.l_max : lane_hi;
+    const Scalar covered = hi > lo ? hi - lo : Scalar(0);
+    z.lane_cost = clamp(Scalar(1) - covered / road.lane_width, Scalar(0), Scalar(1));
+  }
+}
+
+void link_zones(ConvexSpace& out) {
+  for (std::size_t i = 0; i + 1 < out.slices.size(); ++i) {  // < kMaxSlices
+    const Slice& a = out.slices[i];
+    const Slice& b = out.slices[i + 1];
+    for (int za = 0; za < a.zone_count; ++za) {  // <= kMaxZonesPerSlice
+      Zone& from = out.zones[static_cast<std::size_t>(a.first_zone + za)];
+      for (int zb = 0; zb < b.zone_count; ++zb) {  // <= kMaxZonesPerSlice
+        const Zone& to = out.zones[static_cast<std::size_t>(b.first_zone + zb)];
+        if (ConvexSpace::overlap(from, to) >= out.vehicle_width) {
+          from.successors = static_cast<std::uint16_t>(from.successors | (1u << zb));
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+const char* to_string(ConvexSpaceStatus status) {
+  switch (status) {
+    case ConvexSpaceStatus::kOk: return "ok";
+    case ConvexSpaceStatus::kInvalidInput: return "invalid_input";
+    case ConvexSpaceStatus::kNoStartZone: return "no_start_zone";
+  }
+  return "unknown";
+}
+
+Scalar ConvexSpace::overlap(const Zone& a, const Zone& b) {
+  const Scalar lo = a.l_min > b.l_min ? a.l_min : b.l_min;
+  const Scalar hi = a.l_max < b.l_max ? a.l_max : b.l_max;
+  return hi - lo;
+}
+
+const Zone& ConvexSpace::successor(const Zone& z, int bit) const {
+  const Slice& next = slices[static_cast<std::size_t>(z.slice + 1)];
+  return zones[static_cast<std::size_t>(next.first_zone + bit)];
+}
+
+ConvexSpaceStatus build_convex_space(const RoadSl& road, std::span<const SlBox> boxes,
+                                     const ConvexSpaceParams& params, ConvexSpace& out) {
+  out.slices.clear();
+  out.zones.clear();
+  out.start_zone = -1;
+  out.s_start = params.s_start;
+  out.s_end = params.s_end;
+  out.vehicle_width = params.vehicle_width;
+  if (!(params.s_end > params.s_start) || !std::isfinite(params.s_start) ||
+      !std::isfinite(params.s_end) || !(params.vehicle_width > 0) ||
+      !std::isfinite(params.ego_l) || boxes.size() > static_cast<std::size_t>(config::kMaxObstacles) ||
+      road.left.empty() || road.right.empty()) {
+    return ConvexSpaceStatus::kInvalidInput;
+  }
+  for (const SlBox& b : boxes) {  // <= kMaxObstacles
+    if (!finite_box(b)) {
+      return ConvexSpaceStatus::kInvalidInput;
+    }
+  }
+  std::array<Scalar, kMaxCuts> cuts{};
+  const int n_cuts = collect_cuts(boxes, params.s_start, params.s_end, cuts);
+  for (int i = 0; i + 1 < n_cuts; ++i) {  // < kMaxSlices
+    const Scalar sa = cuts[static_cast<std::size_t>(i)];
+    const Scalar sb = cuts[static_cast<std::size_t>(i + 1)];
+    const Scalar road_lo = road.right.max_over(sa, sb);
+    const Scalar road_hi = road.left.min_over(sa, sb);
+    add_slice_zones(boxes, sa, sb, road_lo, road_hi, params, static_cast<std::int16_t>(i), out);
+  }
+  compute_zone_costs(road, out);
+  link_zones(out);
+
+  // The start zone: the slice-0 zone holding the ego, else the nearest one.
+  const Slice& first = out.slices[0];
+  Scalar best = Scalar(0);
+  for (int j = 0; j < first.zone_count; ++j) {  // <= kMaxZonesPerSlice
+    const Zone& z = out.zones[static_cast<std::size_t>(first.first_zone + j)];
+    const Scalar d = params.ego_l < z.l_min ? z.l_min - params.ego_l
+                     : params.ego_l > z.l_max ? params.ego_l - z.l_max
+                                              : Scalar(0);
+    if (out.start_zone < 0 || d < best) {
+      best = d;
+      out.start_zone = static_cast<std::int16_t>(first.first_zone + j);
+    }
+  }
+  return out.start_zone < 0 ? ConvexSpaceStatus::kNoStartZone : ConvexSpaceStatus::kOk;
+}
+
+}  // namespace itp::decision

@@ -1,0 +1,128 @@
+#include <doctest/doctest.h>
+
+#include <memory>
+#include <random>
+
+#include "heap_guard.hpp"
+#include "itp/decision/convex_space.hpp"
+#include "sl_scenes.hpp"
+
+using namespace itp::decision;
+using namespace decision_test;
+
+TEST_CASE("a free road is one zone spanning the horizon") {
+  auto space = std::make_unique<ConvexSpace>();
+  REQUIRE(build_convex_space(road(-1.75, 5.25), {}, params(), *space) == ConvexSpaceStatus::kOk);
+  REQUIRE(space->slices.size() == 1);
+  REQUIRE(space->zones.size() == 1);
+  const Zone& z = space->zones[0];
+  CHECK(z.s_begin == doctest::Approx(0));
+  CHECK(z.s_end == doctest::Approx(100));
+  CHECK(z.l_min == doctest::Approx(-1.75));
+  CHECK(z.l_max == doctest::Approx(5.25));
+  CHECK(z.area_cost == doctest::Approx(0));
+  CHECK(z.lane_cost == doctest::Approx(0));  // covers the whole target lane
+  CHECK(space->start_zone == 0);
+}
+
+TEST_CASE("an obstacle splits its slice into a left and a right zone") {
+  const std::vector<SlBox> boxes{box(40, 45, -0.5, 1.5, 7)};
+  auto space = std::make_unique<ConvexSpace>();
+  REQUIRE(build_convex_space(road(-5.25, 5.25), boxes, params(), *space) == ConvexSpaceStatus::kOk);
+  REQUIRE(space->slices.size() == 3);
+  CHECK(space->slices[1].s_begin == doctest::Approx(40));
+  CHECK(space->slices[1].s_end == doctest::Approx(45));
+  REQUIRE(space->slices[1].zone_count == 2);
+  const Zone& right = space->zones[static_cast<std::size_t>(space->slices[1].first_zone)];
+  const Zone& left = space->zones[static_cast<std::size_t>(space->slices[1].first_zone + 1)];
+  CHECK(right.l_min == doctest::Approx(-5.25));
+  CHECK(right.l_max == doctest::Approx(-0.5));
+  CHECK(right.left_box == 0);
+  CHECK(left.l_min == doctest::Approx(1.5));
+  CHECK(left.l_max == doctest::Approx(5.25));
+  CHECK(left.right_box == 0);
+  // Both link to the zones before and after (overlap >= vehicle width).
+  CHECK(space->zones[0].successors == 0b11u);
+  CHECK(right.successors == 0b1u);
+  CHECK(left.successors == 0b1u);
+}
+
+TEST_CASE("gaps narrower than the vehicle are not zones") {
+  const std::vector<SlBox> boxes{box(40, 45, -1.0, 5.25, 1)};  // leaves 0.75 m on the right
+  auto space = std::make_unique<ConvexSpace>();
+  REQUIRE(build_convex_space(road(-1.75, 5.25), boxes, params(), *space) == ConvexSpaceStatus::kOk);
+  CHECK(space->slices[1].zone_count == 0);
+  CHECK(space->zones[0].successors == 0u);
+}
+
+TEST_CASE("bad input is rejected with a status") {
+  auto space = std::make_unique<ConvexSpace>();
+  auto p = params();
+  p.s_end = p.s_start;
+  CHECK(build_convex_space(road(-1.75, 5.25), {}, p, *space) == ConvexSpaceStatus::kInvalidInput);
+  const std::vector<SlBox> nan_box{box(10, std::nan(""), 0, 1, 1)};
+  CHECK(build_convex_space(road(-1.75, 5.25), nan_box, params(), *space) == ConvexSpaceStatus::kInvalidInput);
+  const std::vector<SlBox> inverted{box(10, 5, 0, 1, 1)};
+  CHECK(build_convex_space(road(-1.75, 5.25), inverted, params(), *space) == ConvexSpaceStatus::kInvalidInput);
+  std::vector<SlBox> too_many(itp::config::kMaxObstacles + 1, box(10, 12, 0, 1, 1));
+  CHECK(build_convex_space(road(-1.75, 5.25), too_many, params(), *space) == ConvexSpaceStatus::kInvalidInput);
+  const std::vector<SlBox> wall{box(-5, 5, -10, 10, 1)};  // covers the ego's slice entirely
+  CHECK(build_convex_space(road(-1.75, 5.25), wall, params(), *space) == ConvexSpaceStatus::kNoStartZone);
+}
+
+TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough, and links are valid") {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<Scalar> u(0, 1);
+  auto space = std::make_unique<ConvexSpace>();
+  for (int trial = 0; trial < 300; ++trial) {
+    const Scalar right = -1.75 - 3.5 * static_cast<Scalar>(rng() % 2);
+    const Scalar left = 1.75 + 3.5 * static_cast<Scalar>(rng() % 3);
+    std::vector<SlBox> boxes;
+    const int n = static_cast<int>(rng() % (itp::config::kMaxObstacles + 1));
+    for (int i = 0; i < n; ++i) {
+      const Scalar s0 = -10 + 120 * u(rng);
+      const Scalar l0 = right - 1 + (left - right + 2) * u(rng);
+      boxes.push_back(box(s0, s0 + 2 + 10 * u(rng), l0, l0 + 0.5 + 2.5 * u(rng), i));
+    }
+    const auto r = road(right, left);
+    ConvexSpaceStatus st;
+    {
+      test_support::HeapGuard guard;
+      st = build_convex_space(r, boxes, params(0), *space);
+    }
+    if (st != ConvexSpaceStatus::kOk) {
+      CHECK(st == ConvexSpaceStatus::kNoStartZone);
+      continue;
+    }
+    REQUIRE(space->slices.size() <= static_cast<std::size_t>(itp::config::kMaxSlices));
+    CHECK(space->slices[0].s_begin == doctest::Approx(0));
+    CHECK(space->slices.back().s_end == doctest::Approx(100));
+    for (std::size_t i = 0; i < space->slices.size(); ++i) {
+      const Slice& sl = space->slices[i];
+      if (i > 0) {
+        CHECK(sl.s_begin == space->slices[i - 1].s_end);  // slices tile the horizon
+      }
+      for (int j = 0; j < sl.zone_count; ++j) {
+        const Zone& z = space->zones[static_cast<std::size_t>(sl.first_zone + j)];
+        CHECK(z.l_min >= right);
+        CHECK(z.l_max <= left);
+        CHECK(z.width() >= 1.9);
+        if (j > 0) {  // sorted and disjoint within the slice
+          const Zone& prev = space->zones[static_cast<std::size_t>(sl.first_zone + j - 1)];
+          CHECK(prev.l_max <= z.l_min);
+        }
+        for (const SlBox& b : boxes) {  // no zone overlaps an obstacle
+          const bool s_overlap = b.s_max > z.s_begin && b.s_min < z.s_end;
+          const bool l_overlap = b.l_max > z.l_min && b.l_min < z.l_max;
+          CHECK_FALSE((s_overlap && l_overlap));
+        }
+        for (int bit = 0; bit < 16; ++bit) {
+          if ((z.successors & (1u << bit)) != 0u) {
+            REQUIRE(i + 1 < space->slices.size());
+            CHECK(ConvexSpace::overlap(z, space->successor(z, bit)) >= 1.9);
+          }
+        }
+      }
+    }
+  }
+}
