@@ -108,4 +108,32 @@ TEST_CASE("the linear moment integrates value times a linear reference") {
   }
   const Scalar got = linear_moment(h, r0, r1) * x;
   CHECK(got == doctest::Approx(ref).epsilon(1e-7));
+  // Same with the first derivative of the value.
+  Scalar ref1 = 0;
+  for (int i = 0; i < n; ++i) {
+    const Scalar t = (i + 0.5) * h / n;
+    ref1 += q.d(t, 1) * (r0 + r1 * t) * h / n;
+  }
+  CHECK(linear_moment(h, r0, r1, 1) * x == doctest::Approx(ref1).epsilon(1e-7));
+}
+
+TEST_CASE("the integral row integrates the value over a sub-interval") {
+  Poly q;
+  q.a = {-0.4, 0.3, -0.05, 0.01, 0.002, -0.0003};
+  const Scalar h = 5.0;
+  const Vector6 x = knot_states(q, h);
+  // Antiderivative of the polynomial, the independent reference.
+  auto anti = [&](Scalar t) {
+    Scalar v = 0;
+    Scalar p = t;
+    for (int i = 0; i < 6; ++i) {
+      v += q.a[static_cast<std::size_t>(i)] * p / (i + 1);
+      p *= t;
+    }
+    return v;
+  };
+  for (auto [a, b] : {std::pair<Scalar, Scalar>{0, 5}, {1.25, 3.5}, {2, 2}, {4.9, 5}}) {
+    const Scalar got = integral_row(h, a, b) * x;
+    CHECK(got == doctest::Approx(anti(b) - anti(a)).epsilon(1e-10).scale(1.0));
+  }
 }

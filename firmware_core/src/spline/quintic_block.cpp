@@ -60,10 +60,20 @@ Matrix6 gram(Scalar h, int derivative) {
   return m.transpose() * g * m;
 }
 
-Row6 linear_moment(Scalar h, Scalar r0, Scalar r1) {
+Row6 linear_moment(Scalar h, Scalar r0, Scalar r1, int derivative) {
+  Row6 e = Row6::Zero();
+  for (int i = derivative; i < kBlockStates; ++i) {  // 6
+    const int p = i - derivative;  // d^k τ^i = falling(i, k) τ^p
+    e(i) = falling(i, derivative) * (r0 * power(h, p + 1) / static_cast<Scalar>(p + 1) +
+                                     r1 * power(h, p + 2) / static_cast<Scalar>(p + 2));
+  }
+  return e * coefficient_map(h);
+}
+
+Row6 integral_row(Scalar h, Scalar a, Scalar b) {
   Row6 e;
   for (int i = 0; i < kBlockStates; ++i) {  // 6
-    e(i) = r0 * power(h, i + 1) / static_cast<Scalar>(i + 1) + r1 * power(h, i + 2) / static_cast<Scalar>(i + 2);
+    e(i) = (power(b, i + 1) - power(a, i + 1)) / static_cast<Scalar>(i + 1);
   }
   return e * coefficient_map(h);
 }

@@ -33,6 +33,11 @@ Matrix6 gram(Scalar h, int derivative);
 
 // Row r with r · x = ∫_0^h value(τ) (r0 + r1 τ) dτ: the linear term of a
 // squared deviation from a reference that is linear inside the block.
-Row6 linear_moment(Scalar h, Scalar r0, Scalar r1);
+// With `derivative` = k: r · x = ∫_0^h (d^k/dτ^k value)(τ) (r0 + r1 τ) dτ.
+Row6 linear_moment(Scalar h, Scalar r0, Scalar r1, int derivative = 0);
+
+// Row r with r · x = ∫_a^b value(τ) dτ for 0 <= a <= b <= h: the linear term
+// of a squared deviation from a reference that is constant on [a, b].
+Row6 integral_row(Scalar h, Scalar a, Scalar b);
 
 }  // namespace itp::spline
