@@ -1,0 +1,85 @@
+#pragma once
+// Banded Cholesky H = L L' and the triangular solves with L, all in the lower
+// band layout band[i][k] = X(i, i - k), k = 0..Bw. The factor stores the
+// RECIPROCAL of its diagonal, l[i][0] = 1 / L(i,i), so that the solves
+// multiply instead of divide (a division's latency would sit on the solves'
+// critical path). Cost: factor n(Bw+1)^2
+// flops (O(n Bw^2)); each solve 2 n (Bw+1) flops (fewer from a start index).
+//
+//   L(i,j) = ( H(i,j) - sum_{k=max(0,i-Bw)}^{j-1} L(i,k) L(j,k) ) / L(j,j),  j < i
+//   L(j,j) = sqrt( H(j,j) - sum_k L(j,k)^2 )
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+namespace itp::qp::band {
+
+// Factorises the n x n band matrix h (lower band, half-bandwidth Bw) into l.
+// A diagonal shift `reg` >= 0 is added to H first (documented regularisation;
+// 0 by default). Returns false if a pivot is not safely positive, i.e. H + reg I
+// is not positive definite to working precision.
+template <typename S, std::size_t W>
+bool cholesky(const S (*h)[W], S (*l)[W], int n, S reg) {
+  constexpr int Bw = static_cast<int>(W) - 1;
+  // A pivot below (Bw + 8) eps |H(i,i) + reg| is rounding noise of a zero
+  // pivot: H is singular to working precision (semidefinite -> kNotConvex).
+  const S rel = static_cast<S>(Bw + 8) * std::numeric_limits<S>::epsilon();
+  for (int i = 0; i < n; ++i) {
+    const int j0 = i - Bw > 0 ? i - Bw : 0;
+    for (int j = j0; j <= i; ++j) {
+      S s = h[i][i - j] + (i == j ? reg : S(0));
+      for (int k = j0; k < j; ++k) s -= l[i][i - k] * l[j][j - k];
+      if (i == j) {
+        if (!(s > rel * std::abs(h[i][0] + reg))) return false;  // also catches NaN
+        l[i][0] = S(1) / std::sqrt(s);
+      } else {
+        l[i][i - j] = s * l[j][0];
+      }
+    }
+  }
+  return true;
+}
+
+// Solves L y = b in place (y overwrites b). Entries b[0..start-1] must be zero
+// and stay zero, so the solve starts at `start` (sparse right-hand sides).
+template <typename S, std::size_t W>
+void forward_solve(const S (*l)[W], int n, S* b, int start) {
+  constexpr int Bw = static_cast<int>(W) - 1;
+  for (int i = start; i < n; ++i) {
+    S s = b[i];
+    const int k0 = i - Bw > start ? i - Bw : start;
+    // nearest term last: only it waits for the previous row's result
+    for (int k = k0; k < i; ++k) s -= l[i][i - k] * b[k];
+    b[i] = s * l[i][0];
+  }
+}
+
+// Solves L' x = y in place (x overwrites y).
+template <typename S, std::size_t W>
+void backward_solve(const S (*l)[W], int n, S* y) {
+  constexpr int Bw = static_cast<int>(W) - 1;
+  for (int i = n - 1; i >= 0; --i) {
+    S s = y[i];
+    const int k1 = i + Bw < n - 1 ? i + Bw : n - 1;
+    // farthest term first: only the last one waits for the previous row
+    for (int k = k1; k > i; --k) s -= l[k][k - i] * y[k];
+    y[i] = s * l[i][0];
+  }
+}
+
+// y = H x for the symmetric band matrix h.
+template <typename S, std::size_t W>
+void multiply(const S (*h)[W], int n, const S* x, S* y) {
+  constexpr int Bw = static_cast<int>(W) - 1;
+  for (int i = 0; i < n; ++i) y[i] = S(0);
+  for (int i = 0; i < n; ++i) {
+    y[i] += h[i][0] * x[i];
+    const int j0 = i - Bw > 0 ? i - Bw : 0;
+    for (int j = j0; j < i; ++j) {
+      y[i] += h[i][i - j] * x[j];
+      y[j] += h[i][i - j] * x[i];
+    }
+  }
+}
+
+}  // namespace itp::qp::band

@@ -1,0 +1,145 @@
+#pragma once
+// QP data in the qpOASES standard form
+//   min 1/2 x'Hx + g'x   s.t.  lbA <= A x <= ubA,  lb <= x <= ub
+// with H banded (lower band stored) and A row-sparse (fixed nonzeros per row).
+// Plain data owned by the caller (static storage); nothing allocates.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "itp/qp/dimensions.hpp"
+
+namespace itp::qp {
+
+template <class D>
+struct QpProblem {
+  using S = typename D::Scalar;
+  static constexpr int kN = D::kMaxVariables;
+  static constexpr int kM = D::kMaxRows;
+  static constexpr int kNnz = D::kMaxRowNonzeros;
+  static constexpr int kBw = D::kBandwidth;
+  // Array extents (size_t) derived from the capacities.
+  static constexpr std::size_t kNz = static_cast<std::size_t>(kN);
+  static constexpr std::size_t kMz = static_cast<std::size_t>(kM > 0 ? kM : 1);
+  static constexpr std::size_t kNnzz = static_cast<std::size_t>(kNnz);
+  static constexpr std::size_t kBandz = static_cast<std::size_t>(kBw + 1);
+
+  int n = 0;  // variables in use, 1..kN
+  int m = 0;  // constraint rows in use, 0..kM
+  // Lower band of H: h_band[i][k] = H(i, i - k), k = 0..kBw (k = 0: diagonal).
+  // Entries with i - k < 0 are ignored.                      [kN x (kBw+1)]
+  S h_band[kNz][kBandz];
+  S g[kNz];                 // linear cost                       [kN]
+  // Row-sparse A: row r has a_nnz[r] entries, columns strictly increasing.
+  std::int16_t a_nnz[kMz];              //             [kM]
+  std::int16_t a_col[kMz][kNnzz];        //             [kM x kNnz]
+  S a_val[kMz][kNnzz];                   //             [kM x kNnz]
+  S lba[kMz];   // row lower bounds, may be -inf      [kM]
+  S uba[kMz];   // row upper bounds, may be +inf      [kM]
+  S lb[kNz];                 // variable lower bounds, may be -inf [kN]
+  S ub[kNz];                 // variable upper bounds, may be +inf [kN]
+
+  // Sets the sizes and clears all data: H = 0, g = 0, rows empty and
+  // unbounded, variables unbounded. Returns false if beyond capacity.
+  bool reset(int n_vars, int m_rows) {
+    if (n_vars < 1 || n_vars > kN || m_rows < 0 || m_rows > kM) {
+      return false;
+    }
+    n = n_vars;
+    m = m_rows;
+    const S inf = std::numeric_limits<S>::infinity();
+    for (int i = 0; i < kN; ++i) {
+      for (int k = 0; k <= kBw; ++k) h_band[i][k] = S(0);
+      g[i] = S(0);
+      lb[i] = -inf;
+      ub[i] = inf;
+    }
+    for (int r = 0; r < (kM > 0 ? kM : 1); ++r) {
+      a_nnz[r] = 0;
+      for (int k = 0; k < kNnz; ++k) {
+        a_col[r][k] = 0;
+        a_val[r][k] = S(0);
+      }
+      lba[r] = -inf;
+      uba[r] = inf;
+    }
+    return true;
+  }
+
+  // H(i, j) (symmetric). Returns false if (i, j) lies outside the band.
+  bool set_hessian(int i, int j, S value) {
+    if (i < j) {
+      const int t = i;
+      i = j;
+      j = t;
+    }
+    if (j < 0 || i >= n || i - j > kBw) return false;
+    h_band[i][i - j] = value;
+    return true;
+  }
+  S hessian(int i, int j) const {
+    if (i < j) {
+      const int t = i;
+      i = j;
+      j = t;
+    }
+    if (j < 0 || i >= n || i - j > kBw) return S(0);
+    return h_band[i][i - j];
+  }
+
+  // Appends entry (col, value) to row r; columns must be added in increasing
+  // order. Returns false when the row is full or the column out of order.
+  bool push_row_entry(int r, int col, S value) {
+    if (r < 0 || r >= m || col < 0 || col >= n) return false;
+    const int k = a_nnz[r];
+    if (k >= kNnz || (k > 0 && a_col[r][k - 1] >= col)) return false;
+    a_col[r][k] = static_cast<std::int16_t>(col);
+    a_val[r][k] = value;
+    a_nnz[r] = static_cast<std::int16_t>(k + 1);
+    return true;
+  }
+
+  // a_r' x
+  S row_dot(int r, const S* x) const {
+    S s = S(0);
+    for (int k = 0; k < a_nnz[r]; ++k) s += a_val[r][k] * x[a_col[r][k]];
+    return s;
+  }
+};
+
+// kInvalidInput conditions: sizes beyond capacity, NaN/Inf in H, g or A, NaN
+// bounds, lb > ub, lbA > ubA, a lower bound of +inf or an upper bound of -inf,
+// bad column indices (out of range or not strictly increasing).
+template <class D>
+bool is_valid(const QpProblem<D>& p) {
+  using S = typename D::Scalar;
+  if (p.n < 1 || p.n > D::kMaxVariables || p.m < 0 || p.m > D::kMaxRows) return false;
+  const S inf = std::numeric_limits<S>::infinity();
+  for (int i = 0; i < p.n; ++i) {
+    for (int k = 0; k <= D::kBandwidth && k <= i; ++k) {
+      if (!std::isfinite(p.h_band[i][k])) return false;
+    }
+    if (!std::isfinite(p.g[i])) return false;
+    if (std::isnan(p.lb[i]) || std::isnan(p.ub[i]) || p.lb[i] > p.ub[i] ||
+        p.lb[i] == inf || p.ub[i] == -inf) {
+      return false;
+    }
+  }
+  for (int r = 0; r < p.m; ++r) {
+    const int nnz = p.a_nnz[r];
+    if (nnz < 0 || nnz > D::kMaxRowNonzeros) return false;
+    for (int k = 0; k < nnz; ++k) {
+      const int c = p.a_col[r][k];
+      if (c < 0 || c >= p.n || (k > 0 && p.a_col[r][k - 1] >= c)) return false;
+      if (!std::isfinite(p.a_val[r][k])) return false;
+    }
+    if (std::isnan(p.lba[r]) || std::isnan(p.uba[r]) || p.lba[r] > p.uba[r] ||
+        p.lba[r] == inf || p.uba[r] == -inf) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace itp::qp

@@ -1,0 +1,8 @@
+#pragma once
+// Umbrella header of the sparse dual active-set QP solver (docs/qp.md).
+#include "itp/qp/dimensions.hpp"
+#include "itp/qp/kkt.hpp"
+#include "itp/qp/problem.hpp"
+#include "itp/qp/solver.hpp"
+#include "itp/qp/status.hpp"
+#include "itp/qp/workspace.hpp"

@@ -1,0 +1,119 @@
+#pragma once
+// Settings, working set, result and the one solver workspace. All sizes come
+// from the QpDims capacities; the caller owns these objects (static storage).
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "itp/qp/dimensions.hpp"
+#include "itp/qp/status.hpp"
+
+namespace itp::qp {
+
+// Tolerances default per scalar type (docs/qp.md, "Tolerances").
+template <typename S>
+struct QpSettings {
+  static constexpr bool kDouble = std::is_same_v<S, double>;
+  // Max violation of a constraint, measured on the row scaled to unit 2-norm,
+  // that still counts as satisfied.
+  S primal_tolerance = kDouble ? S(1e-9) : S(2e-4);
+  // Multipliers above -dual_tolerance count as non-negative (then clamped to 0).
+  S dual_tolerance = kDouble ? S(1e-12) : S(1e-6);
+  // A new working-set pivot below singular_tolerance * |m_j|^2 marks the
+  // constraint as linearly dependent on the working set.
+  S singular_tolerance = kDouble ? S(1e-11) : S(1e-5);
+  // Residual |m_i'u - d_i| / (1 + |d_i|) on active rows above which the
+  // working-set factor is recomputed from scratch (bounded per solve).
+  S refactor_tolerance = kDouble ? S(1e-8) : S(1e-3);
+  // Added to the diagonal of H before factorising (0: none). A semidefinite H
+  // is reported as kNotConvex unless this is set.
+  S regularisation = S(0);
+  // Run-time iteration cap, clamped to D::kMaxIterations (<= 0: use that).
+  int max_iterations = 0;
+};
+
+// One working-set entry: a simple bound on x[index] or row `index` of A,
+// active at its lower (-1) or upper (+1) side. For an equality the side is the
+// one that was violated when it entered; either side is accepted on input.
+struct ActiveConstraint {
+  std::int16_t index = 0;
+  std::int8_t is_bound = 0;  // 1: bound on x[index], 0: row index of A
+  std::int8_t side = 0;      // -1 lower, +1 upper
+};
+
+template <class D>
+struct WorkingSet {
+  int size = 0;
+  ActiveConstraint entries[static_cast<std::size_t>(D::kMaxActive)];  // [N + 1]
+  void clear() { size = 0; }
+  bool push(int index, bool is_bound, int side) {
+    if (size >= D::kMaxActive) return false;
+    entries[size].index = static_cast<std::int16_t>(index);
+    entries[size].is_bound = static_cast<std::int8_t>(is_bound ? 1 : 0);
+    entries[size].side = static_cast<std::int8_t>(side < 0 ? -1 : 1);
+    ++size;
+    return true;
+  }
+};
+
+// Solution. Multiplier sign convention (stationarity Hx + g + A'y_rows + y_bounds = 0):
+// y > 0 means the UPPER side is active, y < 0 the LOWER side, 0 inactive.
+template <class D>
+struct QpResult {
+  using S = typename D::Scalar;
+  QpStatus status = QpStatus::kInvalidInput;
+  int iterations = 0;             // working-set changes (adds + removes)
+  int refactorisations = 0;       // from-scratch recomputations of the factor
+  S objective = S(0);             // 1/2 x'Hx + g'x at x
+  S x[static_cast<std::size_t>(D::kMaxVariables)];          // primal solution          [N]
+  S y_bounds[static_cast<std::size_t>(D::kMaxVariables)];   // bound multipliers        [N]
+  S y_rows[static_cast<std::size_t>(D::kMaxRows > 0 ? D::kMaxRows : 1)];  // row multipliers [M]
+  WorkingSet<D> working_set;      // final active set (warm start input) [N+1]
+  bool usable() const { return is_usable(status); }
+};
+
+// Everything the solver needs between and during solves; reused by hotstart.
+// Sizes with N = kMaxVariables, M = kMaxRows, Bw = kBandwidth:
+template <class D>
+struct QpWorkspace {
+  using S = typename D::Scalar;
+  static constexpr int kN = D::kMaxVariables;
+  static constexpr int kM = D::kMaxRows;
+  static constexpr int kA = D::kMaxActive;   // N + 1
+  static constexpr int kC = D::kMaxConstraints;  // N + M
+  static constexpr std::size_t kNz = static_cast<std::size_t>(kN);
+  static constexpr std::size_t kAz = static_cast<std::size_t>(kA);
+  static constexpr std::size_t kCz = static_cast<std::size_t>(kC);
+  static constexpr std::size_t kBandz = static_cast<std::size_t>(D::kBandwidth + 1);
+  static constexpr std::size_t kLdlz = kAz * (kAz - 1) / 2;
+
+  S chol[kNz][kBandz];             // banded Cholesky factor L of H      [N x (Bw+1)]
+  S x_unc[kNz];                    // unconstrained optimum -H^-1 g       [N]
+  S x[kNz];                        // current primal iterate              [N]
+  S u[kNz];                        // transformed iterate u = L'(x - x_unc) [N]
+  S row_scale[kCz];                // 1 / |a_c| for violation ranking     [N + M]
+  // Rows of M = A L^-T for the working set, one slot per active entry
+  // (dense; entries before m_start[slot] are zero).                  [(N+1) x N]
+  S m_rows[kAz][kNz];
+  std::int16_t m_start[kAz];       // first nonzero column of each slot   [N+1]
+  std::int16_t slot_of[kAz];       // working-set position -> slot        [N+1]
+  std::int16_t free_slots[kAz];    // stack of unused slots               [N+1]
+  int free_count = 0;             // entries in free_slots
+  S ldl_l[kLdlz];                   // packed unit-lower L of M_W M_W'     [(N+1)N/2]
+  S ldl_d[kAz];                    // D of M_W M_W'                       [N+1]
+  S lambda[kAz];                   // dual iterate (u-space, >= 0 for ineq) [N+1]
+  S lambda_star[kAz];              // equality-QP multipliers for W       [N+1]
+  S d_w[kAz];                      // signed transformed bounds of W      [N+1]
+  S scratch[kAz];                  // K row / null vector / update vector [N+1]
+  S scratch2[kAz];                  // H x for the objective               [N+1]
+  std::int16_t w_index[kAz];       // active constraint ids (0..N-1 bounds, N.. rows) [N+1]
+  std::int8_t w_side[kAz];         // active side per position, -1/+1     [N+1]
+  std::int8_t active_side[kCz];    // side per constraint id, 0 inactive  [N + M]
+  int w_size = 0;                 // |W|
+  bool last_singular = false;             // last W row is linearly dependent
+  bool factored = false;          // chol/m_rows valid for hotstart
+  int factored_n = 0;                 // n the factors were built for
+  int factored_m = 0;                 // m the factors were built for
+};
+
+}  // namespace itp::qp

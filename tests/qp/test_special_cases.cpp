@@ -1,0 +1,261 @@
+// Infeasibility, equality-constrained QPs against an independent dense KKT
+// solve, invalid input, non-convexity and the iteration limit.
+#undef EIGEN_NO_MALLOC  // the dense reference allocates; never inside a guard
+#include <doctest/doctest.h>
+
+#include <Eigen/Dense>
+#include <memory>
+#include <random>
+
+#include "heap_guard.hpp"
+#include "qp_test_util.hpp"
+
+using namespace itp::qp;
+
+namespace {
+
+using D8 = QpDims<double, 8, 16, 8, 7>;
+using D40 = QpDims<double, 40, 80, 6, 4>;
+
+template <class D>
+struct Instance {
+  QpProblem<D> problem;
+  QpWorkspace<D> ws;
+  QpResult<D> result;
+  QpSettings<typename D::Scalar> settings;
+  QpStatus solve() {
+    test_support::HeapGuard guard;
+    return solve_cold(problem, ws, settings, result);
+  }
+};
+
+template <class D>
+void identity_hessian(QpProblem<D>& p) {
+  for (int i = 0; i < p.n; ++i) p.set_hessian(i, i, 1.0);
+}
+
+}  // namespace
+
+TEST_CASE("infeasible: contradictory rows and bounds are detected") {
+  auto in = std::make_unique<Instance<D8>>();
+  auto& p = in->problem;
+  SUBCASE("a'x >= 1 and a'x <= 0") {
+    REQUIRE(p.reset(3, 2));
+    identity_hessian(p);
+    for (int r = 0; r < 2; ++r) {
+      p.push_row_entry(r, 0, 1.0);
+      p.push_row_entry(r, 2, -2.0);
+    }
+    p.lba[0] = 1.0;
+    p.uba[1] = 0.0;
+    CHECK(in->solve() == QpStatus::kInfeasible);
+  }
+  SUBCASE("x0 + x1 >= 3 with x <= 1") {
+    REQUIRE(p.reset(2, 1));
+    identity_hessian(p);
+    p.push_row_entry(0, 0, 1.0);
+    p.push_row_entry(0, 1, 1.0);
+    p.lba[0] = 3.0;
+    p.ub[0] = p.ub[1] = 1.0;
+    CHECK(in->solve() == QpStatus::kInfeasible);
+  }
+  SUBCASE("zero row with a positive lower bound") {
+    REQUIRE(p.reset(2, 1));
+    identity_hessian(p);
+    p.lba[0] = 0.5;
+    CHECK(in->solve() == QpStatus::kInfeasible);
+  }
+  SUBCASE("inconsistent equalities") {
+    REQUIRE(p.reset(3, 2));
+    identity_hessian(p);
+    p.push_row_entry(0, 0, 1.0);
+    p.push_row_entry(0, 1, 1.0);
+    p.push_row_entry(1, 0, 2.0);
+    p.push_row_entry(1, 1, 2.0);
+    p.lba[0] = p.uba[0] = 1.0;
+    p.lba[1] = p.uba[1] = 3.0;
+    CHECK(in->solve() == QpStatus::kInfeasible);
+  }
+}
+
+TEST_CASE("infeasible: random Farkas certificates") {
+  // Rows a_1..a_k with y >= 0, sum y_i a_i = 0 and sum y_i b_i < 0 make
+  // {a_i'x <= b_i} empty. The other rows are random and harmless.
+  auto in = std::make_unique<Instance<D8>>();
+  std::mt19937 rng(77);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  for (int rep = 0; rep < 30; ++rep) {
+    const int n = 2 + rep % 7;
+    const int k = 2 + rep % 4;
+    auto& p = in->problem;
+    REQUIRE(p.reset(n, k + 3));
+    for (int i = 0; i < n; ++i) {
+      p.set_hessian(i, i, 1.0 + uni(rng));
+      if (i > 0) p.set_hessian(i, i - 1, 0.3 * gauss(rng));
+      p.g[i] = gauss(rng);
+    }
+    std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
+    double yb = 0.0;
+    const double y_last = 0.5 + uni(rng);
+    for (int r = 0; r < k - 1; ++r) {
+      const double y = 0.5 + uni(rng);
+      for (int j = 0; j < n; ++j) {
+        const double a = gauss(rng);
+        p.push_row_entry(r, j, a);
+        sum[static_cast<std::size_t>(j)] += y * a;
+      }
+      const double b = gauss(rng);
+      // alternate the representation: upper side, or the lower side of -a.
+      p.uba[r] = b;
+      yb += y * b;
+    }
+    for (int j = 0; j < n; ++j) p.push_row_entry(k - 1, j, -sum[static_cast<std::size_t>(j)] / y_last);
+    // need y_last * b_last < -yb  ->  b_last = (-yb - margin) / y_last
+    p.uba[k - 1] = (-yb - 0.5 - uni(rng)) / y_last;
+    if (rep % 2 == 1) {  // flip row 0 to a lower-side constraint on -a
+      for (int q = 0; q < p.a_nnz[0]; ++q) p.a_val[0][q] = -p.a_val[0][q];
+      p.lba[0] = -p.uba[0];
+      p.uba[0] = qp_test::inf<double>();
+    }
+    for (int r = k; r < k + 3; ++r) {
+      p.push_row_entry(r, r % n, 1.0);
+      p.lba[r] = -100.0;
+      p.uba[r] = 100.0;
+    }
+    CAPTURE(rep);
+    CHECK(in->solve() == QpStatus::kInfeasible);
+  }
+}
+
+TEST_CASE("equality-constrained QPs match a dense KKT solve") {
+  auto in = std::make_unique<Instance<D40>>();
+  std::mt19937 rng(4242);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (int rep = 0; rep < 12; ++rep) {
+    const int n = 6 + 3 * rep;
+    const int m = n / 3 + rep % 3;
+    qp_test::BuildOptions o;
+    o.n = std::min(n, 40);
+    o.m = 0;
+    o.bandwidth = 4;
+    auto& p = in->problem;
+    qp_test::build_random(p, o, rng);
+    p.m = m;
+    for (int r = 0; r < m; ++r) {
+      p.a_nnz[r] = 0;
+      // each row touches a diagonal-ish window so the rows are independent
+      const int c0 = (r * (o.n - 3)) / std::max(1, m - 1);
+      for (int j = c0; j < std::min(o.n, c0 + 3); ++j) p.push_row_entry(r, j, gauss(rng));
+      p.lba[r] = p.uba[r] = gauss(rng);
+    }
+    for (int i = 0; i < o.n; ++i) {
+      p.g[i] = gauss(rng);
+      p.lb[i] = -qp_test::inf<double>();
+      p.ub[i] = qp_test::inf<double>();
+    }
+    // Dense KKT: [H A'; A 0] [x; y] = [-g; b]
+    const int nn = o.n;
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nn + m, nn + m);
+    Eigen::VectorXd rhs(nn + m);
+    for (int i = 0; i < nn; ++i) {
+      for (int j = 0; j < nn; ++j) K(i, j) = p.hessian(i, j);
+      rhs(i) = -p.g[i];
+    }
+    for (int r = 0; r < m; ++r) {
+      for (int q = 0; q < p.a_nnz[r]; ++q) {
+        K(nn + r, p.a_col[r][q]) = p.a_val[r][q];
+        K(p.a_col[r][q], nn + r) = p.a_val[r][q];
+      }
+      rhs(nn + r) = p.lba[r];
+    }
+    const Eigen::VectorXd ref = K.fullPivLu().solve(rhs);
+    REQUIRE((K * ref - rhs).norm() < 1e-9 * (1.0 + rhs.norm()));
+    CAPTURE(rep);
+    REQUIRE(in->solve() == QpStatus::kOptimal);
+    for (int i = 0; i < nn; ++i) CHECK(in->result.x[i] == doctest::Approx(ref(i)).epsilon(1e-8));
+    for (int r = 0; r < m; ++r) CHECK(in->result.y_rows[r] == doctest::Approx(ref(nn + r)).epsilon(1e-7));
+    // Every equality is in the final working set.
+    CHECK(in->result.working_set.size == m);
+  }
+}
+
+TEST_CASE("bad inputs are rejected with kInvalidInput") {
+  auto in = std::make_unique<Instance<D8>>();
+  auto& p = in->problem;
+  auto base = [&]() {
+    REQUIRE(p.reset(3, 2));
+    identity_hessian(p);
+    p.push_row_entry(0, 0, 1.0);
+    p.push_row_entry(0, 1, 1.0);
+    p.push_row_entry(1, 2, 1.0);
+    p.lba[0] = 0.0;
+    p.uba[0] = 1.0;
+  };
+  base();
+  REQUIRE(in->solve() == QpStatus::kOptimal);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = qp_test::inf<double>();
+  SUBCASE("NaN in g") { base(); p.g[1] = nan; }
+  SUBCASE("Inf in H") { base(); p.h_band[2][0] = inf; }
+  SUBCASE("NaN in A") { base(); p.a_val[0][1] = nan; }
+  SUBCASE("lb > ub") { base(); p.lb[0] = 1.0; p.ub[0] = 0.0; }
+  SUBCASE("lbA > ubA") { base(); p.lba[1] = 2.0; p.uba[1] = 1.0; }
+  SUBCASE("lb = +inf") { base(); p.lb[2] = inf; }
+  SUBCASE("NaN bound") { base(); p.ub[1] = nan; }
+  SUBCASE("n beyond capacity") { base(); p.n = 9; }
+  SUBCASE("n = 0") { base(); p.n = 0; }
+  SUBCASE("m beyond capacity") { base(); p.m = 17; }
+  SUBCASE("column out of range") { base(); p.a_col[1][0] = 3; }
+  SUBCASE("columns not increasing") { base(); p.a_col[0][1] = 0; }
+  SUBCASE("nnz beyond capacity") { base(); p.a_nnz[0] = 9; }
+  CHECK(in->solve() == QpStatus::kInvalidInput);
+  CHECK_FALSE(in->result.usable());
+  CHECK_FALSE(p.reset(9, 1));
+  CHECK_FALSE(p.reset(2, 17));
+}
+
+TEST_CASE("non-convex H is reported as kNotConvex; regularisation is opt-in") {
+  auto in = std::make_unique<Instance<D8>>();
+  auto& p = in->problem;
+  REQUIRE(p.reset(3, 0));
+  // H = [[1,1,0],[1,1,0],[0,0,1]] is semidefinite
+  p.set_hessian(0, 0, 1.0);
+  p.set_hessian(1, 0, 1.0);
+  p.set_hessian(1, 1, 1.0);
+  p.set_hessian(2, 2, 1.0);
+  p.lb[0] = p.lb[1] = -1.0;
+  p.ub[0] = p.ub[1] = 1.0;
+  p.g[0] = 1.0;
+  CHECK(in->solve() == QpStatus::kNotConvex);
+  in->settings.regularisation = 1e-8;
+  CHECK(in->solve() == QpStatus::kOptimal);
+  in->settings.regularisation = 0.0;
+  p.set_hessian(1, 1, -2.0);  // indefinite
+  CHECK(in->solve() == QpStatus::kNotConvex);
+  // hotstart is refused after a failed factorisation
+  QpResult<D8> r;
+  CHECK(solve_hot(p, in->ws, in->settings, r) == QpStatus::kNotFactored);
+}
+
+TEST_CASE("the iteration limit is honoured and flags the iterate unusable") {
+  auto in = std::make_unique<Instance<D40>>();
+  std::mt19937 rng(8);
+  qp_test::BuildOptions o;
+  o.n = 40;
+  o.m = 80;
+  o.bandwidth = 4;
+  o.max_row_nnz = 5;
+  o.p_row_active = 0.4;
+  qp_test::build_random(in->problem, o, rng);
+  REQUIRE(in->solve() == QpStatus::kOptimal);
+  const int needed = in->result.iterations;
+  REQUIRE(needed > 3);
+  in->settings.max_iterations = needed - 1;
+  CHECK(in->solve() == QpStatus::kIterationLimit);
+  CHECK(in->result.iterations == needed - 1);
+  CHECK_FALSE(in->result.usable());
+  in->settings.max_iterations = needed;
+  CHECK(in->solve() == QpStatus::kOptimal);
+  static_assert(D40::kMaxIterations == 3 * (40 + 80));
+}
