@@ -51,12 +51,15 @@ inline constexpr int kSpeedVariables = (kSpeedBlocks + 1) * kKnotStates;  // 45
 inline constexpr int kMaxPlannerIterations = 5;
 
 // --- Reference line and Frenet frame (docs/frenet.md) -------------------------
-// The smoothing spline is fitted through the polyline plus kReferenceEndMirror
-// mirrored points at each end (so the natural end condition does not flatten
-// the curvature at the real ends).
-inline constexpr int kReferenceEndMirror = 2;
+// The smoothing spline is fitted through the polyline plus up to
+// kReferenceEndMirror points mirrored at each end, covering at least
+// kReferenceMirrorLength (so the natural end condition, kappa = 0, acts far
+// from the real ends and does not flatten their curvature).
+inline constexpr int kReferenceEndMirror = 16;
+inline constexpr Scalar kReferenceMirrorLength = Scalar(15);   // [m] ~7 smoothing bandwidths
 inline constexpr int kMaxReferenceKnots = kMaxReferencePoints + 2 * kReferenceEndMirror;
 inline constexpr Scalar kReferenceSmoothing = Scalar(16);       // [m^3] spline penalty lambda
+                                                                // (bandwidth lambda^(1/4) = 2 m)
 inline constexpr Scalar kMinReferencePointSpacing = Scalar(0.05);  // [m] closer = repeated point
 inline constexpr Scalar kMaxReferenceTurnPerPoint = Scalar(1.0471975511965976);  // [rad] 60 deg
 inline constexpr Scalar kMinReferenceLineLength = Scalar(20);   // [m]

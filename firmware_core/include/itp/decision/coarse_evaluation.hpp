@@ -1,0 +1,98 @@
+#pragma once
+// Paper 1.1, coarse evaluation of one decision (eq. 2-4). The corridor is
+// sampled at kCoarseSamples points in s; the small QP
+//   min Σ w_ls (l_{i-1} + l_{i+1} - 2 l_i)² + Σ w_lr (l_i - l_ref)²
+//     + Σ w_ts (t_{i-1} + t_{i+1} - 2 t_i)² + Σ w_tl (t_i - t_lb,i)²
+//   s.t. l_0 = l_init, t_0 = t_init, l_lb,i <= l_i <= l_ub,i, t_i >= t_lb,i,
+//        t_{i+1} - t_i >= Δs / v_limit
+// gives a coarse path and timing, from which curvature, speed, longitudinal
+// and lateral acceleration follow; the decision cost is eq. (4).
+#include <cstdint>
+
+#include "itp/config.hpp"
+#include "itp/decision/convex_space.hpp"
+#include "itp/decision/curvature_profile.hpp"
+#include "itp/decision/decision_tree.hpp"
+#include "itp/decision/vehicle_limits.hpp"
+#include "itp/qp/qp.hpp"
+
+namespace itp::decision {
+
+using CoarseDims = qp::CoarseQpDims<Scalar>;
+
+struct CoarseWeights {
+  // Eq. (2), the coarse QP.
+  Scalar l_smooth = Scalar(10);   // second difference of l   [1/m^2]
+  Scalar l_ref = Scalar(0.05);    // deviation from l_ref     [1/m^2]
+  Scalar t_smooth = Scalar(10);   // second difference of t   [1/s^2]
+  Scalar t_lb = Scalar(1);        // lateness versus t_lb     [1/s^2]
+  // Eq. (4), PathCost and DynamicCost, one weight per term.
+  Scalar kappa_mean = Scalar(10);     // w11 x mean |κ|      [m]
+  Scalar kappa_var = Scalar(100);     // w12 x var κ         [m^2]
+  Scalar a_lat_mean = Scalar(0.5);    // w21 x mean |a_lat|  [s^2/m]
+  Scalar a_lat_var = Scalar(0.1);     // w22 x var a_lat
+  Scalar a_lon_mean = Scalar(0.5);    // w23 x mean |a_lon|
+  Scalar a_lon_var = Scalar(0.1);     // w24 x var a_lon
+};
+
+struct CoarseInput {
+  Scalar l_init = 0;       // [m] ego's l (or the stitched plan's)
+  Scalar v_init = 0;       // [m/s] ego's speed
+  Scalar l_ref = 0;        // [m] target lane centre
+  Scalar vehicle_width = Scalar(1.9);     // [m]
+  Scalar lateral_margin = Scalar(0.2);    // [m] kept from zone edges, each side
+  Scalar stop_margin = Scalar(3.0);       // [m] distance kept before a blocked corridor's end
+  VehicleLimits limits;
+  const CurvatureProfile* kappa_ref = nullptr;  // κ_ref(s); null = straight road
+};
+
+struct CoarseResult {
+  qp::QpStatus status = qp::QpStatus::kInvalidInput;
+  int samples = 0;
+  Scalar ds = 0;                                    // [m] sample spacing
+  std::array<Scalar, config::kCoarseSamples> s{};   // [m]
+  std::array<Scalar, config::kCoarseSamples> l{};   // [m]
+  std::array<Scalar, config::kCoarseSamples> t{};   // [s]
+  std::array<Scalar, config::kCoarseSamples> l_lb{}, l_ub{};  // [m] corridor at the samples
+  std::array<Scalar, config::kCoarseSamples> t_lb{};          // [s]
+  Scalar kappa_mean = 0, kappa_var = 0;   // |κ| mean [1/m], variance [1/m^2]
+  Scalar a_lat_mean = 0, a_lat_var = 0;   // [m/s^2], [m^2/s^4]
+  Scalar a_lon_mean = 0, a_lon_var = 0;
+  Scalar path_cost = 0;      // w11 μ|κ| + w12 σ²κ
+  Scalar dynamic_cost = 0;   // w21..w24 terms
+  Scalar decision_cost = 0;  // geometric cost + path cost + dynamic cost (eq. 4)
+  int qp_iterations = 0;
+};
+
+// Owns the coarse QP's problem, workspace and result (about 50 KB with the
+// default sizes); one instance serves every decision of a cycle.
+class CoarseEvaluator {
+ public:
+  void evaluate(const ConvexSpace& space, const Decision& decision, const CoarseInput& in,
+                const CoarseWeights& w, CoarseResult& out);
+
+ private:
+  bool sample_corridor(const ConvexSpace& space, const Decision& decision, const CoarseInput& in,
+                       CoarseResult& out) const;
+  void build_qp(const CoarseInput& in, const CoarseWeights& w, const CoarseResult& out);
+  void score(const Decision& decision, const CoarseInput& in, const CoarseWeights& w,
+             CoarseResult& out) const;
+
+  qp::QpProblem<CoarseDims> problem_{};
+  qp::QpWorkspace<CoarseDims> workspace_{};
+  qp::QpResult<CoarseDims> result_{};
+  qp::QpSettings<Scalar> settings_{};
+  // H depends only on the QP weights: while they stay the same, every solve
+  // after the first is a hotstart (new g and bounds, same factorisation).
+  CoarseWeights factored_weights_{};
+  bool have_factor_ = false;
+};
+
+// Earliest arrival times t_lb at `count` samples s_0 + i Δs from a forward /
+// backward kinematic pass: speed limit, lateral acceleration on κ_ref,
+// acceleration and braking limits; `stop_at_end` brings the speed to zero at
+// the last sample (a blocked corridor).
+void earliest_arrival(const CoarseInput& in, Scalar s0, Scalar ds, int count, bool stop_at_end,
+                      Scalar* t_lb);
+
+}  // namespace itp::decision

@@ -1,0 +1,50 @@
+#pragma once
+// The whole of paper 1.1 in one call: convex zones, decision tree (K best by
+// geometric cost), a coarse QP per kept decision, decision cost, the winner.
+// Owns all of its memory; one instance per planner.
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "itp/decision/coarse_evaluation.hpp"
+#include "itp/decision/convex_space.hpp"
+#include "itp/decision/decision_tree.hpp"
+
+namespace itp::decision {
+
+enum class DecisionStatus : std::uint8_t {
+  kOk = 0,          // a decision whose corridor reaches the horizon was chosen
+  kBlocked,         // the best decision ends before the horizon: stop before its end
+  kNoDecision,      // no zone for the ego, or no coarse QP was solvable
+  kInvalidInput,
+};
+
+const char* to_string(DecisionStatus status);
+
+struct DecisionWeights {
+  GeometricWeights geometric;
+  CoarseWeights coarse;
+};
+
+class DecisionStage {
+ public:
+  DecisionStatus run(const RoadSl& road, std::span<const SlBox> boxes,
+                     const ConvexSpaceParams& params, const CoarseInput& input,
+                     const DecisionWeights& weights);
+
+  const ConvexSpace& space() const { return space_; }
+  const DecisionSet& decisions() const { return set_; }
+  // Coarse results, index-aligned with decisions().kept.
+  const CoarseResult& coarse(std::size_t i) const { return coarse_[i]; }
+  // Index of the chosen decision in decisions().kept, -1 if none.
+  int best() const { return best_; }
+
+ private:
+  ConvexSpace space_{};
+  DecisionSet set_{};
+  CoarseEvaluator evaluator_{};
+  std::array<CoarseResult, config::kKeptDecisions> coarse_{};
+  int best_ = -1;
+};
+
+}  // namespace itp::decision

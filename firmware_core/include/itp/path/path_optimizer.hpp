@@ -1,0 +1,84 @@
+#pragma once
+// Paper 1.2: the path QP. l(s) over the SL horizon is a C2 spline of
+// kPathBlocks quintic blocks; the variables are (l, l', l'') at the
+// kPathBlocks + 1 knots (quintic Hermite parameterisation: the link
+// constraints (7) hold by construction and H is banded, half-bandwidth 5).
+//
+// Cost (6), integrated exactly per block:
+//   w0 ∫(l - l_target)² + w1 ∫l'² + w2 ∫l''² + w3 ∫l'''² + w_obs ∫(l - l_mid(s))²
+// with l_mid the middle of the chosen corridor (piecewise constant in s; in a
+// zone that no obstacle bounds, the target lane centre clamped into it).
+// Constraints: start (l, l', l'') = init_sl; at kPathSamplesPerBlock samples
+// per block the corridor (8) l_lo + w/2 <= l + β l' <= l_hi - w/2, and
+// bounds on l' and on l'' (curvature limit minus κ_ref).
+#include <array>
+
+#include "itp/config.hpp"
+#include "itp/decision/convex_space.hpp"
+#include "itp/decision/curvature_profile.hpp"
+#include "itp/decision/decision_tree.hpp"
+#include "itp/qp/qp.hpp"
+
+namespace itp::path {
+
+using PathDims = qp::PathQpDims<Scalar>;
+inline constexpr int kPathKnots = config::kPathBlocks + 1;
+inline constexpr int kPathSamplesPerBlock = qp::kPathQpRows / (3 * config::kPathBlocks);  // 5
+static_assert(3 * kPathSamplesPerBlock * config::kPathBlocks == qp::kPathQpRows,
+              "corridor, l' and l'' rows at every sample fill the path QP's rows");
+
+struct PathWeights {
+  Scalar target = Scalar(0.02);   // w0   [1/m^3]
+  Scalar d1 = Scalar(1);          // w1   [1/m]
+  Scalar d2 = Scalar(100);        // w2   [m]
+  Scalar d3 = Scalar(2000);       // w3   [m^3]
+  Scalar obstacle = Scalar(0.1);  // w_obs [1/m^3]
+};
+
+struct PathInput {
+  Scalar s0 = 0;       // [m] start of the path (the ego's s)
+  Scalar length = config::kPathLength;  // [m]
+  Scalar l0 = 0;       // [m]   init_sl: l
+  Scalar dl0 = 0;      // [-]   init_sl: dl/ds
+  Scalar ddl0 = 0;     // [1/m] init_sl: d²l/ds²
+  Scalar l_target = 0;             // [m] target lane centre
+  Scalar vehicle_width = Scalar(1.9);   // [m]
+  Scalar beta = Scalar(0.2);            // [m] heading allowance of (8)
+  Scalar dl_max = Scalar(0.5);          // [-] |l'| bound
+  Scalar kappa_max = Scalar(0.2);       // [1/m] curvature limit
+  const decision::CurvatureProfile* kappa_ref = nullptr;  // null: straight
+};
+
+struct PathResult {
+  qp::QpStatus status = qp::QpStatus::kInvalidInput;
+  int iterations = 0;
+  Scalar s0 = 0;  // [m]
+  Scalar h = 0;   // [m] block length
+  std::array<Scalar, 3 * kPathKnots> knots{};  // (l, l', l'') per knot
+
+  // d^k l / ds^k at s (k = 0..3), clamped to the horizon.
+  Scalar eval(Scalar s, int derivative) const;
+};
+
+class PathOptimizer {
+ public:
+  void solve(const decision::ConvexSpace& space, const decision::Decision& decision,
+             const PathInput& in, const PathWeights& w, PathResult& out);
+  // The QP of the last solve (for dumps and tests).
+  const qp::QpProblem<PathDims>& problem() const { return problem_; }
+
+ private:
+  void build(const decision::ConvexSpace& space, const decision::Decision& decision,
+             const PathInput& in, const PathWeights& w, Scalar h);
+
+  qp::QpProblem<PathDims> problem_{};
+  qp::QpWorkspace<PathDims> workspace_{};
+  qp::QpResult<PathDims> result_{};
+  qp::QpSettings<Scalar> settings_{};
+  PathWeights factored_weights_{};
+  Scalar factored_h_ = 0;
+  Scalar factored_beta_ = 0;
+  bool have_factor_ = false;
+};
+
+}  // namespace itp::path

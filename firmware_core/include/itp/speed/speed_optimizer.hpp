@@ -1,0 +1,81 @@
+#pragma once
+// Paper 1.3: the speed QP. s(t) over the speed horizon is a C2 spline of
+// kSpeedBlocks quintic blocks with (s, ṡ, s̈) at the knots (the link
+// constraints (12) hold by construction; H banded, half-bandwidth 5).
+//
+// Cost (11), integrated exactly per block:
+//   w0 ∫(s - s_up)² + w1 ∫(ṡ - ṡ_expect)² + w2 ∫s̈² + w3 ∫s⃛²
+// Constraints: start (13) = init_st; at every sample (0.1 s) rows
+//   s_lo <= s <= s_hi     (obstacle decisions (15)-(17), stop lines)
+//   v_lo <= ṡ <= v_hi     (speed limit incl. lateral acceleration on the path,
+//                          follow/overtake speed conditions)
+//   a_min <= s̈ <= a_max   (the dynamic constraints (14), continuous-time form)
+// The ST stage (st_graph.hpp) fills the bounds and references.
+#include <array>
+
+#include "itp/config.hpp"
+#include "itp/qp/qp.hpp"
+
+namespace itp::speed {
+
+using SpeedDims = qp::SpeedQpDims<Scalar>;
+inline constexpr int kSpeedKnots = config::kSpeedBlocks + 1;
+inline constexpr int kSpeedSamplesPerBlock = qp::kSpeedQpRows / (3 * config::kSpeedBlocks);  // 5
+inline constexpr int kSpeedSamples = kSpeedSamplesPerBlock * config::kSpeedBlocks;           // 70
+static_assert(3 * kSpeedSamples == qp::kSpeedQpRows, "s, ṡ and s̈ rows at every sample");
+
+struct SpeedWeights {
+  Scalar s_up = Scalar(0.05);   // w0 [1/(m^2 s)]
+  Scalar v = Scalar(1);         // w1
+  Scalar a = Scalar(2);         // w2
+  Scalar jerk = Scalar(1);      // w3
+};
+
+// Per-sample bounds and references at t_k = k * horizon / kSpeedSamples
+// (k = 0..kSpeedSamples; the last one is the final knot).
+struct SpeedBounds {
+  std::array<Scalar, kSpeedSamples + 1> s_lo{};   // [m] along the path
+  std::array<Scalar, kSpeedSamples + 1> s_hi{};
+  std::array<Scalar, kSpeedSamples + 1> v_lo{};   // [m/s]
+  std::array<Scalar, kSpeedSamples + 1> v_hi{};
+  std::array<Scalar, kSpeedSamples + 1> s_ref{};  // [m] s_up(t)
+  std::array<Scalar, kSpeedSamples + 1> v_ref{};  // [m/s] ṡ_expect(t)
+};
+
+struct SpeedInput {
+  Scalar v0 = 0;   // [m/s]  init_st: speed
+  Scalar a0 = 0;   // [m/s²] init_st: acceleration
+  Scalar horizon = config::kSpeedHorizon;  // [s]
+  Scalar a_min = Scalar(-4);  // [m/s²]
+  Scalar a_max = Scalar(2);   // [m/s²]
+};
+
+struct SpeedResult {
+  qp::QpStatus status = qp::QpStatus::kInvalidInput;
+  int iterations = 0;
+  Scalar h = 0;  // [s] block length
+  std::array<Scalar, 3 * kSpeedKnots> knots{};  // (s, ṡ, s̈) per knot
+
+  // d^k s / dt^k at t (k = 0..3), clamped to the horizon.
+  Scalar eval(Scalar t, int derivative) const;
+};
+
+class SpeedOptimizer {
+ public:
+  void solve(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w,
+             SpeedResult& out);
+  const qp::QpProblem<SpeedDims>& problem() const { return problem_; }
+
+ private:
+  void build(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w, Scalar h);
+
+  qp::QpProblem<SpeedDims> problem_{};
+  qp::QpWorkspace<SpeedDims> workspace_{};
+  qp::QpResult<SpeedDims> result_{};
+  qp::QpSettings<Scalar> settings_{};
+  SpeedWeights factored_weights_{};
+  Scalar factored_h_ = 0;
+  bool have_factor_ = false;
+};
+
+}  // namespace itp::speed

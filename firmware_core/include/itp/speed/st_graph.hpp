@@ -1,0 +1,88 @@
+#pragma once
+// Paper 1.3, the ST graph: where and when each dynamic obstacle's predicted
+// footprint meets the ego's swept path, the per-obstacle decision (yield,
+// follow, overtake; eq. 15-17) and the bounds and references of the speed QP.
+//
+// Speed-QP s is the distance travelled along the path from the ego's current
+// position: path s = s0 + s. The ego's rear axle is its reference point, so an
+// obstacle occupying path s in [a, b] forbids the rear axle from
+// [a - front, b + rear] (front: rear axle to front bumper, rear: rear overhang).
+#include <array>
+#include <cstdint>
+
+#include "itp/config.hpp"
+#include "itp/core/static_vector.hpp"
+#include "itp/decision/convex_space.hpp"
+#include "itp/decision/curvature_profile.hpp"
+#include "itp/decision/vehicle_limits.hpp"
+#include "itp/path/path_optimizer.hpp"
+#include "itp/speed/speed_optimizer.hpp"
+
+namespace itp::speed {
+
+inline constexpr int kStSamples = kSpeedSamples + 1;  // t_k = k * horizon / kSpeedSamples, k = 0..70
+
+// A dynamic obstacle's predicted SL footprint at every speed sample.
+struct DynamicTrack {
+  std::int32_t id = 0;
+  std::array<decision::SlBox, kStSamples> box{};
+  std::array<bool, kStSamples> present{};  // false before it appears
+};
+
+enum class Longitudinal : std::uint8_t {
+  kIgnore = 0,  // never meets the path, or only behind the ego
+  kYield,       // stay behind the conflict zone while the obstacle is in it (16)
+  kFollow,      // stay a time gap behind and no faster (17)
+  kOvertake,    // stay ahead of it and no slower (15)
+};
+
+const char* to_string(Longitudinal decision);
+
+struct StDecision {
+  std::int32_t id = 0;
+  Longitudinal decision = Longitudinal::kIgnore;
+  int k1 = -1;  // first conflicting sample (t1)
+  int k2 = -1;  // last conflicting sample (t2)
+  std::array<bool, kStSamples> conflict{};  // the footprint meets the swept path at t_k
+  std::array<Scalar, kStSamples> s_lo{};  // [m] forbidden interval of the ego's speed-s, when in conflict
+  std::array<Scalar, kStSamples> s_hi{};
+  std::array<Scalar, kStSamples> speed{};  // [m/s] obstacle's speed along the path
+};
+
+struct StParams {
+  Scalar s0 = 0;                     // [m] path s of the ego
+  Scalar v0 = 0;                     // [m/s]
+  Scalar front = Scalar(3.8);        // [m] rear axle to front bumper
+  Scalar rear = Scalar(1.0);         // [m] rear overhang
+  Scalar half_width = Scalar(0.95);  // [m] ego half width
+  Scalar lateral_margin = Scalar(0.3);   // [m] swept-path inflation for conflicts
+  Scalar longitudinal_margin = Scalar(2.0);  // [m] kept from a conflict zone
+  Scalar follow_distance = Scalar(4.0);  // [m] standstill gap when following
+  Scalar follow_time_gap = Scalar(1.2);  // [s] extra gap per m/s of the leader
+  Scalar stop_s = -1;  // [m] path s the ego's front must stop before (blocked corridor); < 0: none
+  decision::VehicleLimits limits;
+  const decision::CurvatureProfile* kappa_ref = nullptr;
+};
+
+class StGraph {
+ public:
+  // `s_guess[k]`, `v_guess[k]`: the ego's speed-s and speed at t_k from the
+  // previous iteration (or the reference profile at step 0); they pick the
+  // decisions and the curvature speed limit. Fills `bounds` for the speed QP.
+  void build(const path::PathResult& path, std::span<const DynamicTrack> tracks,
+             const StParams& params, const std::array<Scalar, kStSamples>& s_guess,
+             const std::array<Scalar, kStSamples>& v_guess, SpeedBounds& bounds);
+
+  const StaticVector<StDecision, config::kMaxDynamicObstacles>& decisions() const { return decisions_; }
+
+ private:
+  StaticVector<StDecision, config::kMaxDynamicObstacles> decisions_;
+};
+
+// The reference profile: from v0, accelerate at a_max (or brake at a_min) towards
+// the speed limit, with lateral acceleration on κ_ref along the way. Its s and
+// speed at the samples: s_up of the cost, and the step-0 guess of the iteration.
+void reference_profile(const StParams& params, Scalar horizon, std::array<Scalar, kStSamples>& s_ref,
+                       std::array<Scalar, kStSamples>& v_ref);
+
+}  // namespace itp::speed

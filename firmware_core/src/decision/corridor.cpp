@@ -1,0 +1,45 @@
+#include "itp/decision/corridor.hpp"
+
+namespace itp::decision {
+namespace {
+constexpr Scalar kSliceEps = Scalar(1e-6);  // [m] a sample on a slice edge belongs to both
+}
+
+Scalar zone_reference(const Zone& zone, Scalar l_target, Scalar half_width) {
+  if (zone.left_box != kRoadEdge || zone.right_box != kRoadEdge) {
+    return Scalar(0.5) * (zone.l_min + zone.l_max);
+  }
+  const Scalar lo = zone.l_min + half_width;
+  const Scalar hi = zone.l_max - half_width;
+  if (lo > hi) {
+    return Scalar(0.5) * (zone.l_min + zone.l_max);
+  }
+  return l_target < lo ? lo : (l_target > hi ? hi : l_target);
+}
+
+LateralInterval corridor_at(const ConvexSpace& space, const Decision& decision, Scalar s) {
+  LateralInterval out;
+  bool found = false;
+  for (std::int16_t zi : decision.zones) {  // <= kMaxSlices
+    const Zone& z = space.zones[static_cast<std::size_t>(zi)];
+    if (z.s_begin <= s + kSliceEps && s - kSliceEps <= z.s_end) {
+      if (!found) {
+        out = LateralInterval{z.l_min, z.l_max};
+        found = true;
+      } else {
+        out.lo = z.l_min > out.lo ? z.l_min : out.lo;
+        out.hi = z.l_max < out.hi ? z.l_max : out.hi;
+      }
+    }
+  }
+  if (!found && !decision.zones.empty()) {
+    // Before the first or past the last zone: continue the nearest end.
+    const Zone& first = space.zones[static_cast<std::size_t>(decision.zones[0])];
+    const Zone& last = space.zones[static_cast<std::size_t>(decision.zones.back())];
+    const Zone& z = s < first.s_begin ? first : last;
+    out = LateralInterval{z.l_min, z.l_max};
+  }
+  return out;
+}
+
+}  // namespace itp::decision

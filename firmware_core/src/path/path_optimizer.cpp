@@ -1,0 +1,150 @@
+#include "itp/path/path_optimizer.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "itp/decision/corridor.hpp"
+#include "itp/spline/quintic_block.hpp"
+
+namespace itp::path {
+namespace {
+
+constexpr int kB = config::kPathBlocks;
+
+int var(int knot, int state) { return 3 * knot + state; }
+
+Scalar kappa_ref_at(const PathInput& in, Scalar s) {
+  return in.kappa_ref != nullptr ? in.kappa_ref->at(s) : Scalar(0);
+}
+
+}  // namespace
+
+Scalar PathResult::eval(Scalar s, int derivative) const {
+  Scalar u = (s - s0) / h;
+  u = u < 0 ? Scalar(0) : (u > static_cast<Scalar>(kB) ? static_cast<Scalar>(kB) : u);
+  int b = static_cast<int>(u);
+  b = b >= kB ? kB - 1 : b;
+  const Scalar tau = (u - static_cast<Scalar>(b)) * h;
+  spline::Vector6 x;
+  for (int k = 0; k < 6; ++k) {  // the block's two knots
+    x(k) = knots[static_cast<std::size_t>(3 * b + k)];
+  }
+  return spline::evaluate_row(h, tau, derivative) * x;
+}
+
+void PathOptimizer::build(const decision::ConvexSpace& space, const decision::Decision& decision,
+                          const PathInput& in, const PathWeights& w, Scalar h) {
+  const Scalar inf = std::numeric_limits<Scalar>::infinity();
+  static_cast<void>(problem_.reset(config::kPathVariables, qp::kPathQpRows));
+  const spline::Matrix6 block_h = Scalar(2) * ((w.target + w.obstacle) * spline::gram(h, 0) +
+                                               w.d1 * spline::gram(h, 1) +
+                                               w.d2 * spline::gram(h, 2) + w.d3 * spline::gram(h, 3));
+  const Scalar half_width = Scalar(0.5) * in.vehicle_width;
+  int row = 0;
+  for (int b = 0; b < kB; ++b) {  // kPathBlocks
+    const int v0 = var(b, 0);
+    for (int i = 0; i < 6; ++i) {    // block Hessian into the band
+      for (int j = 0; j <= i; ++j) {
+        static_cast<void>(problem_.set_hessian(v0 + i, v0 + j, problem_.hessian(v0 + i, v0 + j) + block_h(i, j)));
+      }
+    }
+    // Linear terms: -2 w0 l_target ∫l and -2 w_obs ∫ l l_mid, l_mid constant per zone.
+    const Scalar sb = in.s0 + h * static_cast<Scalar>(b);
+    spline::Row6 lin = -Scalar(2) * w.target * in.l_target * spline::integral_row(h, 0, h);
+    for (std::int16_t zi : decision.zones) {  // <= kMaxSlices
+      const decision::Zone& z = space.zones[static_cast<std::size_t>(zi)];
+      const Scalar a = (z.s_begin > sb ? z.s_begin : sb) - sb;
+      const Scalar e = (z.s_end < sb + h ? z.s_end : sb + h) - sb;
+      if (e > a) {
+        lin -= Scalar(2) * w.obstacle * decision::zone_reference(z, in.l_target, half_width) *
+               spline::integral_row(h, a, e);
+      }
+    }
+    // Past the corridor's end, the last zone's middle continues.
+    const decision::Zone& last = space.zones[static_cast<std::size_t>(decision.zones.back())];
+    if (sb + h > last.s_end) {
+      const Scalar a = (last.s_end > sb ? last.s_end : sb) - sb;
+      lin -= Scalar(2) * w.obstacle * decision::zone_reference(last, in.l_target, half_width) *
+             spline::integral_row(h, a, h);
+    }
+    for (int i = 0; i < 6; ++i) {  // 6 block variables
+      problem_.g[v0 + i] += lin(i);
+    }
+    // Rows at the samples: corridor (8), l' and l''.
+    for (int k = 0; k < kPathSamplesPerBlock; ++k) {  // samples per block
+      const Scalar tau = h * static_cast<Scalar>(k) / static_cast<Scalar>(kPathSamplesPerBlock);
+      const Scalar s = sb + tau;
+      const spline::Row6 r0 = spline::evaluate_row(h, tau, 0);
+      const spline::Row6 r1 = spline::evaluate_row(h, tau, 1);
+      const spline::Row6 r2 = spline::evaluate_row(h, tau, 2);
+      const decision::LateralInterval c = decision::corridor_at(space, decision, s);
+      const bool at_start = b == 0 && k == 0;  // fixed by init_sl: never binding
+      for (int i = 0; i < 6; ++i) {  // rows touch the 6 block variables
+        static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i) + in.beta * r1(i)));
+        static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r1(i)));
+        static_cast<void>(problem_.push_row_entry(row + 2, v0 + i, r2(i)));
+      }
+      problem_.lba[row] = at_start ? -inf : c.lo + half_width;
+      problem_.uba[row] = at_start ? inf : c.hi - half_width;
+      if (problem_.lba[row] > problem_.uba[row]) {  // just the vehicle's width: its middle
+        problem_.lba[row] = problem_.uba[row] = c.mid();
+      }
+      problem_.lba[row + 1] = at_start ? -inf : -in.dl_max;
+      problem_.uba[row + 1] = at_start ? inf : in.dl_max;
+      const Scalar kr = kappa_ref_at(in, s);
+      problem_.lba[row + 2] = at_start ? -inf : -in.kappa_max - kr;
+      problem_.uba[row + 2] = at_start ? inf : in.kappa_max - kr;
+      row += 3;
+    }
+  }
+  // Knot bounds: the start is init_sl; elsewhere l' and l'' as the rows.
+  for (int j = 1; j < kPathKnots; ++j) {  // kPathBlocks
+    const Scalar kr = kappa_ref_at(in, in.s0 + h * static_cast<Scalar>(j));
+    problem_.lb[var(j, 1)] = -in.dl_max;
+    problem_.ub[var(j, 1)] = in.dl_max;
+    problem_.lb[var(j, 2)] = -in.kappa_max - kr;
+    problem_.ub[var(j, 2)] = in.kappa_max - kr;
+  }
+  problem_.lb[var(0, 0)] = problem_.ub[var(0, 0)] = in.l0;
+  problem_.lb[var(0, 1)] = problem_.ub[var(0, 1)] = in.dl0;
+  problem_.lb[var(0, 2)] = problem_.ub[var(0, 2)] = in.ddl0;
+}
+
+void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::Decision& decision,
+                          const PathInput& in, const PathWeights& w, PathResult& out) {
+  out = PathResult{};
+  const Scalar h = in.length / static_cast<Scalar>(kB);
+  if (decision.zones.empty() || !(h > 0) || !std::isfinite(in.l0) || !std::isfinite(in.dl0) ||
+      !std::isfinite(in.ddl0)) {
+    out.status = qp::QpStatus::kInvalidInput;
+    return;
+  }
+  build(space, decision, in, w, h);
+  // H and A depend only on h, β and the weights, never on the corridor:
+  // hotstart whenever they match (new g and bounds only).
+  const bool same = have_factor_ && h == factored_h_ && in.beta == factored_beta_ && w.target == factored_weights_.target &&
+                    w.d1 == factored_weights_.d1 && w.d2 == factored_weights_.d2 &&
+                    w.d3 == factored_weights_.d3 && w.obstacle == factored_weights_.obstacle;
+  qp::QpStatus st = qp::QpStatus::kNotFactored;
+  if (same) {
+    st = qp::solve_hot(problem_, workspace_, settings_, result_);
+  }
+  if (st == qp::QpStatus::kNotFactored) {
+    st = qp::solve_cold(problem_, workspace_, settings_, result_);
+  }
+  have_factor_ = qp::is_usable(st);
+  factored_h_ = h;
+  factored_beta_ = in.beta;
+  factored_weights_ = w;
+  out.status = st;
+  out.iterations = result_.iterations;
+  out.s0 = in.s0;
+  out.h = h;
+  if (qp::is_usable(st)) {
+    for (int i = 0; i < config::kPathVariables; ++i) {  // 63
+      out.knots[static_cast<std::size_t>(i)] = result_.x[i];
+    }
+  }
+}
+
+}  // namespace itp::path

@@ -1,0 +1,135 @@
+#include "itp/speed/speed_optimizer.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "itp/spline/quintic_block.hpp"
+
+namespace itp::speed {
+namespace {
+
+constexpr int kB = config::kSpeedBlocks;
+
+int var(int knot, int state) { return 3 * knot + state; }
+
+bool finite_bounds(const SpeedBounds& b) {
+  for (int k = 0; k <= kSpeedSamples; ++k) {  // kSpeedSamples + 1
+    const auto u = static_cast<std::size_t>(k);
+    if (std::isnan(b.s_lo[u]) || std::isnan(b.s_hi[u]) || std::isnan(b.v_lo[u]) ||
+        std::isnan(b.v_hi[u]) || !std::isfinite(b.s_ref[u]) || !std::isfinite(b.v_ref[u])) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Scalar SpeedResult::eval(Scalar t, int derivative) const {
+  Scalar u = t / h;
+  u = u < 0 ? Scalar(0) : (u > static_cast<Scalar>(kB) ? static_cast<Scalar>(kB) : u);
+  int b = static_cast<int>(u);
+  b = b >= kB ? kB - 1 : b;
+  const Scalar tau = (u - static_cast<Scalar>(b)) * h;
+  spline::Vector6 x;
+  for (int k = 0; k < 6; ++k) {  // the block's two knots
+    x(k) = knots[static_cast<std::size_t>(3 * b + k)];
+  }
+  return spline::evaluate_row(h, tau, derivative) * x;
+}
+
+void SpeedOptimizer::build(const SpeedInput& in, const SpeedBounds& bd, const SpeedWeights& w,
+                           Scalar h) {
+  const Scalar inf = std::numeric_limits<Scalar>::infinity();
+  static_cast<void>(problem_.reset(config::kSpeedVariables, qp::kSpeedQpRows));
+  const spline::Matrix6 block_h =
+      Scalar(2) * (w.s_up * spline::gram(h, 0) + w.v * spline::gram(h, 1) +
+                   w.a * spline::gram(h, 2) + w.jerk * spline::gram(h, 3));
+  const int per = kSpeedSamplesPerBlock;
+  int row = 0;
+  for (int b = 0; b < kB; ++b) {  // kSpeedBlocks
+    const int v0 = var(b, 0);
+    for (int i = 0; i < 6; ++i) {  // block Hessian into the band
+      for (int j = 0; j <= i; ++j) {
+        static_cast<void>(problem_.set_hessian(v0 + i, v0 + j, problem_.hessian(v0 + i, v0 + j) + block_h(i, j)));
+      }
+    }
+    // References linear inside the block, through their values at its ends.
+    const auto k0 = static_cast<std::size_t>(b * per);
+    const auto k1 = static_cast<std::size_t>((b + 1) * per);
+    const Scalar s_slope = (bd.s_ref[k1] - bd.s_ref[k0]) / h;
+    const Scalar v_slope = (bd.v_ref[k1] - bd.v_ref[k0]) / h;
+    const spline::Row6 lin = -Scalar(2) * (w.s_up * spline::linear_moment(h, bd.s_ref[k0], s_slope, 0) +
+                                           w.v * spline::linear_moment(h, bd.v_ref[k0], v_slope, 1));
+    for (int i = 0; i < 6; ++i) {  // 6 block variables
+      problem_.g[v0 + i] += lin(i);
+    }
+    for (int k = 0; k < per; ++k) {  // samples per block
+      const Scalar tau = h * static_cast<Scalar>(k) / static_cast<Scalar>(per);
+      const auto u = static_cast<std::size_t>(b * per + k);
+      const spline::Row6 r0 = spline::evaluate_row(h, tau, 0);
+      const spline::Row6 r1 = spline::evaluate_row(h, tau, 1);
+      const spline::Row6 r2 = spline::evaluate_row(h, tau, 2);
+      for (int i = 0; i < 6; ++i) {  // rows touch the 6 block variables
+        static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i)));
+        static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r1(i)));
+        static_cast<void>(problem_.push_row_entry(row + 2, v0 + i, r2(i)));
+      }
+      const bool at_start = b == 0 && k == 0;  // fixed by init_st
+      problem_.lba[row] = at_start ? -inf : bd.s_lo[u];
+      problem_.uba[row] = at_start ? inf : bd.s_hi[u];
+      problem_.lba[row + 1] = at_start ? -inf : bd.v_lo[u];
+      problem_.uba[row + 1] = at_start ? inf : bd.v_hi[u];
+      problem_.lba[row + 2] = at_start ? -inf : in.a_min;
+      problem_.uba[row + 2] = at_start ? inf : in.a_max;
+      row += 3;
+    }
+  }
+  for (int j = 1; j < kSpeedKnots; ++j) {  // knots after the start
+    const auto u = static_cast<std::size_t>(j * per);
+    problem_.lb[var(j, 0)] = bd.s_lo[u];
+    problem_.ub[var(j, 0)] = bd.s_hi[u];
+    problem_.lb[var(j, 1)] = bd.v_lo[u];
+    problem_.ub[var(j, 1)] = bd.v_hi[u];
+    problem_.lb[var(j, 2)] = in.a_min;
+    problem_.ub[var(j, 2)] = in.a_max;
+  }
+  problem_.lb[var(0, 0)] = problem_.ub[var(0, 0)] = 0;
+  problem_.lb[var(0, 1)] = problem_.ub[var(0, 1)] = in.v0;
+  problem_.lb[var(0, 2)] = problem_.ub[var(0, 2)] = in.a0;
+}
+
+void SpeedOptimizer::solve(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w,
+                           SpeedResult& out) {
+  out = SpeedResult{};
+  const Scalar h = in.horizon / static_cast<Scalar>(kB);
+  if (!(h > 0) || !std::isfinite(in.v0) || !std::isfinite(in.a0) || !finite_bounds(bounds)) {
+    out.status = qp::QpStatus::kInvalidInput;
+    return;
+  }
+  build(in, bounds, w, h);
+  // H and A depend only on h and the weights: hotstart whenever they match.
+  const bool same = have_factor_ && h == factored_h_ && w.s_up == factored_weights_.s_up &&
+                    w.v == factored_weights_.v && w.a == factored_weights_.a &&
+                    w.jerk == factored_weights_.jerk;
+  qp::QpStatus st = qp::QpStatus::kNotFactored;
+  if (same) {
+    st = qp::solve_hot(problem_, workspace_, settings_, result_);
+  }
+  if (st == qp::QpStatus::kNotFactored) {
+    st = qp::solve_cold(problem_, workspace_, settings_, result_);
+  }
+  have_factor_ = qp::is_usable(st);
+  factored_h_ = h;
+  factored_weights_ = w;
+  out.status = st;
+  out.iterations = result_.iterations;
+  out.h = h;
+  if (qp::is_usable(st)) {
+    for (int i = 0; i < config::kSpeedVariables; ++i) {  // 45
+      out.knots[static_cast<std::size_t>(i)] = result_.x[i];
+    }
+  }
+}
+
+}  // namespace itp::speed

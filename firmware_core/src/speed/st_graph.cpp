@@ -1,0 +1,214 @@
+#include "itp/speed/st_graph.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace itp::speed {
+namespace {
+
+constexpr int kProbes = 12;                      // path probes across an obstacle's s-extent
+constexpr Scalar kKappaFloor = Scalar(1e-4);     // [1/m]
+constexpr Scalar kMovingAlong = Scalar(0.5);     // [m/s] slower is not "moving along the path"
+constexpr Scalar kDt = config::kSpeedHorizon / static_cast<Scalar>(kSpeedSamples);  // [s]
+
+Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
+Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
+
+// Speed allowed at path s: the road limit and lateral acceleration on the
+// path's curvature (κ_ref + l'', the small-angle curvature of the path).
+Scalar speed_limit_at(const path::PathResult& path, const StParams& p, Scalar s) {
+  const Scalar kref = p.kappa_ref != nullptr ? p.kappa_ref->at(s) : Scalar(0);
+  const Scalar kappa = std::fabs(kref + path.eval(s, 2));
+  Scalar v = p.limits.speed_limit;
+  if (kappa > kKappaFloor) {
+    v = min_of(v, std::sqrt(p.limits.a_lat_max / kappa));
+  }
+  return v;
+}
+
+// Does the ego's swept path overlap the box? Probes the path across the box's s-extent.
+bool path_conflicts(const path::PathResult& path, const StParams& p, const decision::SlBox& b) {
+  const Scalar reach = p.half_width + p.lateral_margin;
+  for (int i = 0; i <= kProbes; ++i) {  // kProbes + 1 probes
+    const Scalar s = b.s_min + (b.s_max - b.s_min) * static_cast<Scalar>(i) / static_cast<Scalar>(kProbes);
+    if (s < p.s0 - p.rear) {
+      continue;
+    }
+    const Scalar l = path.eval(s, 0);
+    if (l + reach > b.l_min && l - reach < b.l_max) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Distance the ego covers braking at a_min from v0 by time t (then standing).
+Scalar braking_distance(Scalar v0, Scalar a_min, Scalar t) {
+  const Scalar t_stop = v0 / -a_min;
+  const Scalar tt = t < t_stop ? t : t_stop;
+  return v0 * tt + Scalar(0.5) * a_min * tt * tt;
+}
+
+// Picks the decision from where the ego is expected to be (s_guess, v_guess)
+// when the obstacle first meets the swept path (t1).
+void classify(StDecision& d, const StParams& p, const std::array<Scalar, kStSamples>& s_guess,
+              const std::array<Scalar, kStSamples>& v_guess) {
+  if (d.k1 < 0) {
+    d.decision = Longitudinal::kIgnore;
+    return;
+  }
+  const auto u1 = static_cast<std::size_t>(d.k1);
+  const Scalar ego = s_guess[u1];
+  if (ego >= d.s_hi[u1]) {
+    // The ego is past the conflict zone when it is entered: stay ahead (15),
+    // unless the obstacle is the faster one, closing in from behind.
+    d.decision = d.speed[u1] > v_guess[u1] ? Longitudinal::kIgnore : Longitudinal::kOvertake;
+    return;
+  }
+  const bool moving_along = d.speed[u1] > kMovingAlong;
+  const bool lasts = d.k2 == kStSamples - 1;
+  if (moving_along && lasts && d.s_lo[u1] > 0) {
+    d.decision = Longitudinal::kFollow;
+    return;
+  }
+  // Behind it, or inside the zone in the guess: yield if braking can make it.
+  const Scalar v0 = max_of(p.v0, Scalar(0));
+  const Scalar brake = v0 * v0 / (Scalar(-2) * p.limits.a_min);
+  d.decision = d.s_lo[u1] >= brake || ego <= d.s_lo[u1] ? Longitudinal::kYield : Longitudinal::kOvertake;
+}
+
+}  // namespace
+
+const char* to_string(Longitudinal decision) {
+  switch (decision) {
+    case Longitudinal::kIgnore: return "ignore";
+    case Longitudinal::kYield: return "yield";
+    case Longitudinal::kFollow: return "follow";
+    case Longitudinal::kOvertake: return "overtake";
+  }
+  return "unknown";
+}
+
+void reference_profile(const StParams& p, Scalar horizon, std::array<Scalar, kStSamples>& s_ref,
+                       std::array<Scalar, kStSamples>& v_ref) {
+  const Scalar dt = horizon / static_cast<Scalar>(kSpeedSamples);
+  Scalar s = 0;
+  Scalar v = max_of(p.v0, Scalar(0));
+  for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+    const Scalar kref = p.kappa_ref != nullptr ? std::fabs(p.kappa_ref->at(p.s0 + s)) : Scalar(0);
+    Scalar lim = p.limits.speed_limit;
+    if (kref > kKappaFloor) {
+      lim = min_of(lim, std::sqrt(p.limits.a_lat_max / kref));
+    }
+    s_ref[static_cast<std::size_t>(k)] = s;
+    v_ref[static_cast<std::size_t>(k)] = v;
+    const Scalar v_next = v < lim ? min_of(lim, v + p.limits.a_max * dt) : max_of(lim, v + p.limits.a_min * dt);
+    s += Scalar(0.5) * (v + v_next) * dt;
+    v = v_next;
+  }
+}
+
+void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> tracks,
+                    const StParams& p, const std::array<Scalar, kStSamples>& s_guess,
+                    const std::array<Scalar, kStSamples>& v_guess, SpeedBounds& b) {
+  const Scalar inf = std::numeric_limits<Scalar>::infinity();
+  decisions_.clear();
+  // The road: speed limit along the path at the guessed positions.
+  for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+    const auto u = static_cast<std::size_t>(k);
+    b.s_lo[u] = 0;
+    b.s_hi[u] = inf;
+    b.v_lo[u] = 0;
+    b.v_hi[u] = speed_limit_at(path, p, p.s0 + s_guess[u]);
+    b.v_ref[u] = b.v_hi[u];
+  }
+  // s_up: the furthest the ego could be, as the paper's "as fast as allowed".
+  std::array<Scalar, kStSamples> s_ref{};
+  std::array<Scalar, kStSamples> v_ref{};
+  reference_profile(p, config::kSpeedHorizon, s_ref, v_ref);
+  for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+    b.s_ref[static_cast<std::size_t>(k)] = s_ref[static_cast<std::size_t>(k)];
+  }
+  // A blocked corridor: the front bumper stays before stop_s.
+  if (p.stop_s >= 0) {
+    for (auto& s : b.s_hi) {  // kStSamples
+      s = min_of(s, p.stop_s - p.s0 - p.front);
+    }
+  }
+  for (const DynamicTrack& tr : tracks) {  // <= kMaxDynamicObstacles
+    StDecision d;
+    d.id = tr.id;
+    Scalar prev_center = 0;
+    bool have_prev = false;
+    for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      if (!tr.present[u]) {
+        have_prev = false;
+        continue;
+      }
+      const decision::SlBox& box = tr.box[u];
+      const Scalar center = Scalar(0.5) * (box.s_min + box.s_max);
+      d.speed[u] = have_prev ? (center - prev_center) / kDt : Scalar(0);
+      prev_center = center;
+      have_prev = true;
+      if (path_conflicts(path, p, box)) {
+        d.conflict[u] = true;
+        d.s_lo[u] = box.s_min - p.s0 - p.front - p.longitudinal_margin;
+        d.s_hi[u] = box.s_max - p.s0 + p.rear + p.longitudinal_margin;
+        d.k1 = d.k1 < 0 ? k : d.k1;
+        d.k2 = k;
+      }
+    }
+    if (d.k1 >= 0 && d.k1 + 1 < kStSamples) {  // speed at t1 from the next sample when t1 is the first
+      const auto u1 = static_cast<std::size_t>(d.k1);
+      if (d.speed[u1] == 0 && tr.present[u1 + 1]) {
+        d.speed[u1] = d.speed[u1 + 1];
+      }
+    }
+    classify(d, p, s_guess, v_guess);
+    for (int k = d.k1; d.decision != Longitudinal::kIgnore && k <= d.k2; ++k) {  // <= kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      if (!d.conflict[u]) {
+        continue;
+      }
+      switch (d.decision) {
+        case Longitudinal::kYield:
+          b.s_hi[u] = min_of(b.s_hi[u], d.s_lo[u]);
+          break;
+        case Longitudinal::kFollow: {
+          // (17): behind by a time gap, and no faster than the leader once the
+          // gap is used up; faster only by what braking can still take back.
+          const Scalar v_obj = max_of(d.speed[u], Scalar(0));
+          const Scalar gap = p.follow_distance + p.follow_time_gap * v_obj;
+          const Scalar limit = d.s_lo[u] + p.longitudinal_margin - gap;
+          b.s_hi[u] = min_of(b.s_hi[u], limit);
+          const Scalar room = max_of(limit - s_guess[u], Scalar(0));
+          b.v_hi[u] = min_of(b.v_hi[u], v_obj + std::sqrt(Scalar(-2) * p.limits.a_min * room));
+          b.v_ref[u] = min_of(b.v_ref[u], v_obj);
+          break;
+        }
+        case Longitudinal::kOvertake:
+          b.s_lo[u] = max_of(b.s_lo[u], d.s_hi[u]);
+          b.v_lo[u] = max_of(b.v_lo[u], min_of(d.speed[u], b.v_hi[u]));
+          break;
+        case Longitudinal::kIgnore:
+          break;
+      }
+    }
+    static_cast<void>(decisions_.push_back(d));
+  }
+  // Never ask for less than full braking can give: keep s_hi reachable (a
+  // collision that braking cannot avoid is caught by the collision check).
+  for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+    const auto u = static_cast<std::size_t>(k);
+    const Scalar t = kDt * static_cast<Scalar>(k);
+    const Scalar v0 = max_of(p.v0, Scalar(0));
+    const Scalar s_min = braking_distance(v0, p.limits.a_min, t);
+    const Scalar v_min = max_of(v0 + p.limits.a_min * t, Scalar(0));
+    b.s_hi[u] = max_of(b.s_hi[u], s_min + Scalar(0.01));
+    b.s_lo[u] = min_of(b.s_lo[u], b.s_hi[u]);
+    b.v_hi[u] = max_of(max_of(b.v_hi[u], b.v_lo[u]), v_min + Scalar(0.01));
+  }
+}
+
+}  // namespace itp::speed
