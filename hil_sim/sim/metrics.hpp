@@ -1,0 +1,117 @@
+#pragma once
+// Closed-loop metrics: a per-scene accumulator fed every simulation step, a
+// suite aggregator, and the report/1 writer. Definitions: docs/simulation.md.
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "sim/box_geometry.hpp"
+#include "sim/vehicle_model.hpp"
+#include "sim/world.hpp"
+
+namespace hil::sim {
+
+enum class PlanStatus { kNone, kOk, kFallback, kInvalidInput };
+
+// Smallest signed distance of the box's corners inside the drivable area
+// (min over corners of min(left(s) - l, l - right(s))); negative when a
+// corner is beyond a boundary.
+double road_margin(std::span<const Point2> reference_line, const Road& road, const OrientedBox& box);
+
+// What the simulator knows after one step (0.1 s).
+struct StepSample {
+  double t = 0.0;                         // [s]
+  OrientedBox ego;                        // true footprint
+  std::vector<OrientedBox> obstacles;     // true footprints of the obstacles present
+  double progress_s = 0.0;                // [m] ego's s along the reference line
+  double lateral_offset = 0.0;            // [m] ego's l (rear axle)
+  double heading_error = 0.0;             // [rad] ego heading - reference heading
+  double road_margin = 0.0;               // [m] see road_margin()
+  double a_lon = 0.0;                     // [m/s^2]
+  double a_lat = 0.0;                     // [m/s^2] v^2 kappa
+  // The planning cycle of this step (kNone: no plan was requested this step).
+  PlanStatus status = PlanStatus::kNone;
+  std::string reason;                     // fallback / invalid_input reason
+  std::optional<int> iterations;
+  std::optional<double> cycle_time_us;    // host targets
+  std::optional<double> instructions;     // qemu (-icount shift=0)
+};
+
+struct SceneSummary {
+  std::string name;
+  int steps = 0;
+  int cycles = 0;                       // steps with status != kNone
+  int collision_steps = 0;              // steps with any ego/obstacle overlap
+  std::optional<double> min_clearance_m;  // nullopt: no obstacle was ever present
+  int road_departure_steps = 0;         // steps with road_margin < 0
+  double max_road_excess_m = 0.0;       // max(-road_margin, 0)
+  int fallbacks = 0;
+  std::map<std::string, int> fallback_reasons;
+  int invalid_inputs = 0;
+  std::map<std::string, int> invalid_input_reasons;
+  int link_errors = 0;
+  bool crashed = false;
+  std::string crash_reason;
+  double progress_m = 0.0;              // last s - first s
+  double max_abs_lon_acc = 0.0;
+  double max_abs_lat_acc = 0.0;
+  double max_abs_jerk = 0.0;            // [m/s^3] from consecutive a_lon
+  double max_abs_lateral_offset = 0.0;
+  double max_abs_heading_error = 0.0;
+  std::optional<double> max_plan_deviation_m;  // consecutive plans, lateral, common times
+  std::vector<int> iterations;
+  std::vector<double> cycle_time_us;
+  std::vector<double> instructions;
+  std::vector<std::string> tags;
+
+  bool collided() const { return collision_steps > 0; }
+  bool departed() const { return road_departure_steps > 0; }
+};
+
+class SceneMetrics {
+ public:
+  explicit SceneMetrics(std::string name, std::vector<std::string> tags = {});
+  void add_step(const StepSample& sample);
+  // Every accepted plan (absolute start time, its trajectory with t from 0):
+  // feeds plan consistency.
+  void add_plan(double t_start, std::span<const TrajectoryPoint> plan);
+  void add_link_error(int count = 1);
+  void set_crashed(std::string reason);
+  const SceneSummary& summary() const { return s_; }
+
+ private:
+  SceneSummary s_;
+  std::optional<double> first_s_;
+  std::optional<double> last_a_lon_;
+  double last_t_ = 0.0;
+  std::vector<TrajectoryPoint> prev_plan_;
+  double prev_start_ = 0.0;
+};
+
+struct Stats {
+  std::optional<double> median, p99, max, mean;
+};
+// median: mean of the two middle values for even n; p99: nearest rank
+// (sorted[ceil(0.99 n) - 1]); all nullopt for no samples.
+Stats compute_stats(std::vector<double> samples);
+
+class SuiteAggregator {
+ public:
+  void add(SceneSummary scene);
+  const std::vector<SceneSummary>& scenes() const { return scenes_; }
+  // report/1 with every required key (null where nothing was measured).
+  nlohmann::json report(const std::string& target) const;
+
+ private:
+  std::vector<SceneSummary> scenes_;
+};
+
+nlohmann::json scene_summary_json(const SceneSummary& s);
+// Writes the report as pretty JSON; returns "" or an error message.
+std::string write_report(const nlohmann::json& report, const std::string& path);
+
+}  // namespace hil::sim
