@@ -6,10 +6,15 @@
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <random>
 
+#include "formats/qp_text.hpp"
 #include "itp/link/messages.hpp"
+#include "itp/link/qp_messages.hpp"
+#include "itp/qp/qp.hpp"
 #include "link/child_process.hpp"
 #include "link/link_client.hpp"
 
@@ -116,6 +121,80 @@ int run_ping(const PingOptions& opt) {
   return failures == 0 ? 0 : 1;
 }
 
+struct QpCheckOptions {
+  std::string target = "qemu";
+  std::string firmware;
+  std::vector<std::string> files;
+  double tolerance = 1e-9;
+  int timeout_ms = 20000;
+};
+
+std::vector<std::string> firmware_command(const std::string& target, const std::string& firmware) {
+  if (target == "qemu") {
+    return hil::qemu_command(firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : firmware, "");
+  }
+  return hil::host_firmware_command(firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : firmware);
+}
+
+// Solves each QP file on the host and on the firmware (cold start both) and
+// compares: same status, and x equal to `tolerance` relative to max(1, |x|inf).
+int run_qp_check(const QpCheckOptions& opt) {
+  using D = itp::qp::PathQpDims<double>;
+  static itp::qp::QpProblem<D> problem;
+  static itp::qp::QpWorkspace<D> workspace;
+  static itp::qp::QpResult<D> host;
+  static std::array<std::uint8_t, itp::config::kMaxPayloadBytes> body{};
+  hil::ChildProcess child(firmware_command(opt.target, opt.firmware), "");
+  hil::LinkClient client(child);
+  int failures = 0;
+  double worst = 0;
+  fmt::print("{:<28} {:>10} {:>10} {:>6} {:>12} {:>14}\n", "file", "host", "target", "iters", "rel. diff",
+             opt.target == "qemu" ? "instructions" : "target ticks");
+  for (const std::string& path : opt.files) {
+    hil::formats::QpText text;
+    std::string error;
+    if (!hil::formats::read_qp_text_file(path, text, error) || !hil::formats::to_problem(text, problem, error)) {
+      fmt::print("{}: {}\n", path, error);
+      ++failures;
+      continue;
+    }
+    itp::qp::solve_cold(problem, workspace, itp::qp::QpSettings<double>{}, host);
+    const std::size_t n = itp::link::encode_qp_request(problem, body);
+    const auto reply = n == 0 ? std::nullopt
+                              : client.request(itp::link::MessageType::kQpSolveRequest,
+                                               std::span<const std::uint8_t>(body.data(), n),
+                                               std::chrono::milliseconds(opt.timeout_ms));
+    itp::link::QpSolveReply target;
+    if (!reply || reply->type != itp::link::MessageType::kQpSolveReply || !itp::link::decode(reply->payload, target)) {
+      fmt::print("{}: no valid reply from the firmware\n", path);
+      client.resync();
+      ++failures;
+      continue;
+    }
+    double scale = 1;
+    double diff = 0;
+    for (int i = 0; i < problem.n; ++i) {
+      scale = std::max(scale, std::fabs(host.x[i]));
+    }
+    for (int i = 0; i < problem.n; ++i) {
+      diff = std::max(diff, std::fabs(host.x[i] - target.x[i]));
+    }
+    const bool usable = itp::qp::is_usable(host.status);
+    const double rel = usable ? diff / scale : 0.0;
+    const bool ok = host.status == target.status && rel <= opt.tolerance;
+    worst = std::max(worst, rel);
+    const double instr = opt.target == "qemu" ? static_cast<double>(target.ticks) * 40.0 : static_cast<double>(target.ticks);
+    const auto slash = path.find_last_of('/');
+    fmt::print("{:<28} {:>10} {:>10} {:>6} {:>12.3e} {:>14.0f}{}\n", path.substr(slash == std::string::npos ? 0 : slash + 1),
+               itp::qp::to_string(host.status), itp::qp::to_string(target.status), target.iterations, rel, instr,
+               ok ? "" : "  MISMATCH");
+    failures += ok ? 0 : 1;
+  }
+  fmt::print("{} files, {} mismatches, largest relative difference {:.3e} (tolerance {:.1e})\n", opt.files.size(),
+             failures, worst, opt.tolerance);
+  return failures == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -135,10 +214,22 @@ int main(int argc, char** argv) {
   ping_cmd->add_flag("--garbage", ping.garbage, "Inject garbage, bit flips and truncated frames between pings");
   ping_cmd->add_option("--seed", ping.seed, "Seed for nonces and garbage")->capture_default_str();
 
+  QpCheckOptions qp;
+  auto* qp_cmd = app.add_subcommand("qp-check", "Solve qp-text/1 files on the host and on the firmware, and compare");
+  qp_cmd->add_option("files", qp.files, "qp-text/1 files")->required()->check(CLI::ExistingFile);
+  qp_cmd->add_option("--target", qp.target, "Firmware to compare with")
+      ->check(CLI::IsMember({"host", "qemu"}))
+      ->capture_default_str();
+  qp_cmd->add_option("--firmware", qp.firmware, "Firmware executable (host) or ELF (qemu)");
+  qp_cmd->add_option("--tolerance", qp.tolerance, "Largest relative difference of x accepted")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*ping_cmd) {
       return run_ping(ping);
+    }
+    if (*qp_cmd) {
+      return run_qp_check(qp);
     }
   } catch (const std::exception& e) {
     fmt::print(stderr, "hil_sim: {}\n", e.what());

@@ -1,6 +1,8 @@
 // The firmware's main loop, the same on every target: it uses only the port
 // API and moves bytes between the serial line and the FirmwareService.
 #include <array>
+#include <cstddef>
+#include <new>
 #include <cstdint>
 
 #include "itp/app/firmware_service.hpp"
@@ -9,9 +11,12 @@
 
 namespace {
 
-// Static storage: the service owns large fixed buffers that do not belong on
-// the stack. Constant-initialised, so no start-up code runs for it.
-constinit itp::app::FirmwareService g_service;
+// Static storage for the service, which owns large fixed buffers that do not
+// belong on the stack. Raw zeroed bytes (.bss) constructed in place at start-up:
+// a constant-initialised object with non-zero defaults would be copied into
+// .data, costing flash and start-up time for hundreds of KiB of zeros.
+alignas(itp::app::FirmwareService) std::byte g_service_storage[sizeof(itp::app::FirmwareService)];
+itp::app::FirmwareService* g_service = nullptr;
 
 void send_all(std::span<const std::uint8_t> bytes) {
   std::size_t sent = 0;
@@ -30,8 +35,9 @@ void send_all(std::span<const std::uint8_t> bytes) {
 // target's reset handler calls this directly; hosts enter through main().
 void firmware_run() {
   port::init();
-  g_service.set_build_id(ITP_BUILD_ID);
-  g_service.set_tick_source(itp::TickSource{&port::counter_ticks, port::counter_hz()});
+  g_service = ::new (g_service_storage) itp::app::FirmwareService();  // placement: no heap
+  g_service->set_build_id(ITP_BUILD_ID);
+  g_service->set_tick_source(itp::TickSource{&port::counter_ticks, port::counter_hz()});
   port::log_line("itplan firmware " ITP_BUILD_ID " ready");
   std::array<std::uint8_t, 64> rx{};
   while (port::keep_running()) {  // the superloop: runs for the life of the device
@@ -41,7 +47,7 @@ void firmware_run() {
       continue;
     }
     for (std::size_t i = 0; i < n; ++i) {  // n <= rx.size()
-      const std::span<const std::uint8_t> reply = g_service.on_byte(rx[i]);
+      const std::span<const std::uint8_t> reply = g_service->on_byte(rx[i]);
       if (!reply.empty()) {
         send_all(reply);
       }

@@ -81,7 +81,7 @@ inline constexpr Scalar kMaxPredictionTime = Scalar(3600);      // [s] obstacle 
 inline constexpr Scalar kMaxEgoOffsetFromReference = Scalar(10);  // [m] ego to polyline
 
 // --- Serial link -------------------------------------------------------------
-inline constexpr std::size_t kMaxPayloadBytes = 16384;   // one message body
+inline constexpr std::size_t kMaxPayloadBytes = 32768;   // one message body (a path QP or a scene)
 inline constexpr std::size_t kBuildIdBytes = 48;         // fixed field in Pong
 
 static_assert(kTrajectorySamples ==

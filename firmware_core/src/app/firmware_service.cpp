@@ -1,6 +1,7 @@
 #include "itp/app/firmware_service.hpp"
 
 #include "itp/link/messages.hpp"
+#include "itp/link/qp_messages.hpp"
 
 namespace itp::app {
 
@@ -27,6 +28,13 @@ std::span<const std::uint8_t> FirmwareService::dispatch(const link::FrameView& f
       pong.tick_hz = ticks_.hz;
       return reply(link::MessageType::kPong, seq, link::encode(pong, payload_));
     }
+    case link::MessageType::kQpSolveRequest: {
+      const std::size_t n = solve_qp(frame.payload);
+      if (n == 0) {
+        break;
+      }
+      return reply(link::MessageType::kQpSolveReply, seq, n);
+    }
     default: {
       link::ErrorReply err{link::ErrorCode::kUnsupportedMessage,
                            static_cast<std::uint8_t>(frame.header.type)};
@@ -36,6 +44,25 @@ std::span<const std::uint8_t> FirmwareService::dispatch(const link::FrameView& f
   link::ErrorReply err{link::ErrorCode::kMalformedPayload,
                        static_cast<std::uint8_t>(frame.header.type)};
   return reply(link::MessageType::kError, seq, link::encode(err, payload_));
+}
+
+std::size_t FirmwareService::solve_qp(std::span<const std::uint8_t> request) {
+  if (!link::decode_qp_request(request, qp_problem_)) {
+    return 0;
+  }
+  const std::uint64_t t0 = ticks_.ticks();
+  const qp::QpSettings<Scalar> settings{};
+  qp::solve_cold(qp_problem_, qp_workspace_, settings, qp_result_);
+  link::QpSolveReply out;
+  out.ticks = ticks_.ticks() - t0;
+  out.status = qp_result_.status;
+  out.iterations = static_cast<std::uint16_t>(qp_result_.iterations);
+  out.n = static_cast<std::uint16_t>(qp_problem_.n);
+  out.objective = static_cast<double>(qp_result_.objective);
+  for (int i = 0; i < qp_problem_.n; ++i) {  // n <= kPathVariables
+    out.x[i] = static_cast<double>(qp_result_.x[i]);
+  }
+  return link::encode(out, payload_);
 }
 
 std::span<const std::uint8_t> FirmwareService::reply(link::MessageType type,

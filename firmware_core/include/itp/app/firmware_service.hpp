@@ -9,6 +9,7 @@
 
 #include "itp/core/tick_source.hpp"
 #include "itp/link/frame_decoder.hpp"
+#include "itp/qp/qp.hpp"
 
 namespace itp::app {
 
@@ -30,6 +31,7 @@ class FirmwareService {
 
  private:
   std::span<const std::uint8_t> dispatch(const link::FrameView& frame);
+  std::size_t solve_qp(std::span<const std::uint8_t> request);
   std::span<const std::uint8_t> reply(link::MessageType type, std::uint16_t sequence,
                                       std::size_t payload_size);
 
@@ -39,6 +41,12 @@ class FirmwareService {
   std::array<std::uint8_t, config::kMaxPayloadBytes> payload_{};   // reply body
   std::array<std::uint8_t, link::kMaxWireFrameBytes> tx_{};          // encoded reply
   std::uint32_t replies_ = 0;
+
+  // QpSolve service: the largest planner QP shape (the path QP).
+  using TargetQpDims = qp::PathQpDims<Scalar>;
+  qp::QpProblem<TargetQpDims> qp_problem_{};
+  qp::QpWorkspace<TargetQpDims> qp_workspace_{};
+  qp::QpResult<TargetQpDims> qp_result_{};
 };
 
 }  // namespace itp::app

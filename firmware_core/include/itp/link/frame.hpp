@@ -29,6 +29,8 @@ static_assert(config::kMaxPayloadBytes <= 0xFFFFu, "payload length is a 16-bit f
 enum class MessageType : std::uint8_t {
   kPing = 0x01,
   kPong = 0x02,
+  kQpSolveRequest = 0x10,  // host -> firmware: solve this QP on the target
+  kQpSolveReply = 0x11,
   kError = 0x7F,  // reply to a request the firmware cannot serve
 };
 
