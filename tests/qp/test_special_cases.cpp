@@ -118,8 +118,10 @@ TEST_CASE("infeasible: random Farkas certificates") {
       p.lba[0] = -p.uba[0];
       p.uba[0] = qp_test::inf<double>();
     }
-    for (int r = k; r < k + 3; ++r) {
-      p.push_row_entry(r, r % n, 1.0);
+    // Three harmless box rows after the infeasible ones (size_t indices keep
+    // GCC 12's -Warray-bounds from a false positive at -O3).
+    for (std::size_t r = static_cast<std::size_t>(k); r < static_cast<std::size_t>(k) + 3; ++r) {
+      p.push_row_entry(static_cast<int>(r), static_cast<int>(r) % n, 1.0);
       p.lba[r] = -100.0;
       p.uba[r] = 100.0;
     }

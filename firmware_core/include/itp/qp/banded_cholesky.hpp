@@ -45,12 +45,20 @@ bool cholesky(const S (*h)[W], S (*l)[W], int n, S reg) {
 template <typename S, std::size_t W>
 void forward_solve(const S (*l)[W], int n, S* b, int start) {
   constexpr int Bw = static_cast<int>(W) - 1;
-  for (int i = start; i < n; ++i) {
+  // Rows start..start+Bw-1 see fewer than Bw earlier entries; the rest run a
+  // loop of compile-time length Bw (unrolled). Same operation order as one loop.
+  const int head_end = start + Bw < n ? start + Bw : n;
+  for (int i = start; i < head_end; ++i) {
     S s = b[i];
-    const int k0 = i - Bw > start ? i - Bw : start;
     // nearest term last: only it waits for the previous row's result
-    for (int k = k0; k < i; ++k) s -= l[i][i - k] * b[k];
+    for (int k = start; k < i; ++k) s -= l[i][i - k] * b[k];
     b[i] = s * l[i][0];
+  }
+  for (int i = head_end; i < n; ++i) {
+    S s = b[i];
+    const S* li = l[i];
+    for (int k = i - Bw; k < i; ++k) s -= li[i - k] * b[k];
+    b[i] = s * li[0];
   }
 }
 
@@ -58,11 +66,18 @@ void forward_solve(const S (*l)[W], int n, S* b, int start) {
 template <typename S, std::size_t W>
 void backward_solve(const S (*l)[W], int n, S* y) {
   constexpr int Bw = static_cast<int>(W) - 1;
-  for (int i = n - 1; i >= 0; --i) {
+  // Rows n-Bw..n-1 see fewer than Bw later entries; rows below run a loop of
+  // compile-time length Bw (unrolled). Same operation order as one loop.
+  const int tail_begin = n - Bw > 0 ? n - Bw : 0;
+  for (int i = n - 1; i >= tail_begin; --i) {
     S s = y[i];
-    const int k1 = i + Bw < n - 1 ? i + Bw : n - 1;
     // farthest term first: only the last one waits for the previous row
-    for (int k = k1; k > i; --k) s -= l[k][k - i] * y[k];
+    for (int k = n - 1; k > i; --k) s -= l[k][k - i] * y[k];
+    y[i] = s * l[i][0];
+  }
+  for (int i = tail_begin - 1; i >= 0; --i) {
+    S s = y[i];
+    for (int k = i + Bw; k > i; --k) s -= l[k][k - i] * y[k];
     y[i] = s * l[i][0];
   }
 }

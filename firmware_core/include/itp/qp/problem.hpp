@@ -126,20 +126,27 @@ bool is_valid(const QpProblem<D>& p) {
       return false;
     }
   }
+  // Rows: branch-light (this runs on every solve over all m rows). Columns
+  // must satisfy prev < c < n with prev = -1 before the first; a value v is
+  // finite iff v * 0 == 0 (inf * 0 and NaN * 0 are NaN), so one NaN-propagating
+  // sum of v * 0 checks a whole row.
+  bool ok = true;
+  S zero_sum = S(0);
   for (int r = 0; r < p.m; ++r) {
     const int nnz = p.a_nnz[r];
     if (nnz < 0 || nnz > D::kMaxRowNonzeros) return false;
+    int prev = -1;
     for (int k = 0; k < nnz; ++k) {
       const int c = p.a_col[r][k];
-      if (c < 0 || c >= p.n || (k > 0 && p.a_col[r][k - 1] >= c)) return false;
-      if (!std::isfinite(p.a_val[r][k])) return false;
+      ok = ok & (c > prev) & (c < p.n);
+      prev = c;
+      zero_sum += p.a_val[r][k] * S(0);
     }
-    if (std::isnan(p.lba[r]) || std::isnan(p.uba[r]) || p.lba[r] > p.uba[r] ||
-        p.lba[r] == inf || p.uba[r] == -inf) {
-      return false;
-    }
+    const S lo = p.lba[r], hi = p.uba[r];
+    // !(lo <= hi) also catches a NaN bound
+    ok = ok & (lo <= hi) & (lo != inf) & (hi != -inf);
   }
-  return true;
+  return ok && zero_sum == S(0);
 }
 
 }  // namespace itp::qp

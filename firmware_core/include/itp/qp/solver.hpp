@@ -39,6 +39,9 @@ struct ActiveSetSolver {
   static constexpr int kA = D::kMaxActive;
   static constexpr int kC = D::kMaxConstraints;
   static constexpr int kBw = D::kBandwidth;
+  static constexpr int kScanBlock = Workspace::kScanBlock;
+  static constexpr int kScanBlockShift = Workspace::kScanBlockShift;
+  using BlockIndex = typename Workspace::BlockIndex;
 
   const Problem& p;
   Workspace& ws;
@@ -205,9 +208,32 @@ struct ActiveSetSolver {
       const S* row = ws.m_rows[slot];
       for (int j = ws.m_start[slot]; j < p.n; ++j) ws.u[j] -= li * row[j];
     }
-    for (int j = 0; j < p.n; ++j) ws.x[j] = ws.u[j];
-    band::backward_solve(ws.chol, p.n, ws.x);
-    for (int j = 0; j < p.n; ++j) ws.x[j] += ws.x_unc[j];
+    S* xn = ws.scratch2;  // N + 1 >= n entries
+    for (int j = 0; j < p.n; ++j) xn[j] = ws.u[j];
+    band::backward_solve(ws.chol, p.n, xn);
+    for (int j = 0; j < p.n; ++j) xn[j] += ws.x_unc[j];
+    // Path length of this step per block of variables (for the scan's
+    // row-skipping bound), rounded up so that it bounds the exact length.
+    const S inflate = S(1) + S(64) * std::numeric_limits<S>::epsilon();
+    const int nb = (p.n + kScanBlock - 1) >> kScanBlockShift;
+    for (int b = 0; b < nb; ++b) {
+      const int j0 = b << kScanBlockShift;
+      const int j1 = j0 + kScanBlock < p.n ? j0 + kScanBlock : p.n;
+      S s2 = S(0);
+      for (int j = j0; j < j1; ++j) {
+        const S dx = xn[j] - ws.x[j];
+        s2 += dx * dx;
+        ws.x[j] = xn[j];
+      }
+      ws.path_len[b] += std::sqrt(s2) * inflate;
+    }
+  }
+
+  // Forgets every row's slack certificate (start of a solve: x, bounds or A
+  // may have changed), so that the first scan evaluates all rows.
+  void reset_scan_bookkeeping() {
+    for (int r = 0; r < p.m; ++r) ws.row_cert[r] = -std::numeric_limits<S>::infinity();
+    for (int b = 0; b < Workspace::kScanBlocks; ++b) ws.path_len[b] = S(0);
   }
 
   // Most violated inactive constraint (violation scaled by 1/|a_c|), or -1;
@@ -215,7 +241,17 @@ struct ActiveSetSolver {
   // all m rows is the dominant O(m nnz) term of an iteration, so it is
   // written out flat: two partial sums per row, no per-row branches on the
   // bounds (an infinite bound gives a violation of -inf).
-  int most_violated(bool bland, int* side_out) const {
+  //
+  // Row skipping (same choice as the full scan): when a row is evaluated, its
+  // scaled slack sl = min(ub - a'x, a'x - lb)/|a| minus a bound of its
+  // rounding error is stored together with the path length P_r that x has
+  // travelled so far in the blocks of variables the row touches. Since
+  // |a'(x' - x)|/|a| <= |x' - x| restricted to those columns <= growth of P_r
+  // (triangle inequality over the steps), the row's true slack now is at least
+  // row_cert - P_r(now). Above 2 primal_tolerance the row's computed violation
+  // cannot exceed primal_tolerance, so it could never be selected: skip it.
+  // NaN anywhere makes the test false and the row is evaluated.
+  int most_violated(bool bland, int* side_out) {
     int best = -1;
     S best_v = s.primal_tolerance;
     int best_side = 0;
@@ -235,23 +271,48 @@ struct ActiveSetSolver {
       *side_out = best_side;
       return best;
     }
+    const S eps = std::numeric_limits<S>::epsilon();
+    S* pre = ws.path_prefix;
+    const int nb = (p.n + kScanBlock - 1) >> kScanBlockShift;
+    pre[0] = S(0);
+    for (int b = 0; b < nb; ++b) pre[b + 1] = pre[b] + ws.path_len[b];
+    // 2 primal_tolerance plus the rounding of the prefix-sum differences.
+    const S threshold = S(2) * s.primal_tolerance + S(16) * eps * pre[nb];
     const std::int8_t* row_active = ws.active_side + kN;
+    const BlockIndex* first_block = ws.row_first_block;
+    const BlockIndex* end_block = ws.row_end_block;
+    S* cert = ws.row_cert;
     for (int r = 0; r < p.m; ++r) {
       if (row_active[r] != 0) continue;
+      const S travelled = pre[end_block[r]] - pre[first_block[r]];
+      if (cert[r] - travelled > threshold) continue;
       const S* val = p.a_val[r];
       const std::int16_t* col = p.a_col[r];
       const int nnz = p.a_nnz[r];
-      S s0 = S(0), s1 = S(0);
+      S s0 = S(0), s1 = S(0), t0 = S(0), t1 = S(0);
       int k = 0;
       for (; k + 1 < nnz; k += 2) {
-        s0 += val[k] * ws.x[col[k]];
-        s1 += val[k + 1] * ws.x[col[k + 1]];
+        const S p0 = val[k] * ws.x[col[k]];
+        const S p1 = val[k + 1] * ws.x[col[k + 1]];
+        s0 += p0;
+        s1 += p1;
+        t0 += std::abs(p0);
+        t1 += std::abs(p1);
       }
-      if (k < nnz) s0 += val[k] * ws.x[col[k]];
+      if (k < nnz) {
+        const S p0 = val[k] * ws.x[col[k]];
+        s0 += p0;
+        t0 += std::abs(p0);
+      }
       const S ax = s0 + s1;
       const S up = ax - p.uba[r];
       const S lo = p.lba[r] - ax;
-      const S v = (up > lo ? up : lo) * ws.row_scale[kN + r];
+      const S scale = ws.row_scale[kN + r];
+      const S v = (up > lo ? up : lo) * scale;
+      // Certificate: slack -v minus a bound of its rounding error.
+      const S b_near = up > lo ? p.uba[r] : p.lba[r];
+      const S guard = static_cast<S>(2 * (nnz + 2)) * eps * (t0 + t1 + std::abs(b_near)) * scale;
+      cert[r] = (-v - guard) + travelled;
       if (v > best_v) {
         best = kN + r;
         best_v = v;
@@ -419,6 +480,11 @@ struct ActiveSetSolver {
         S n2 = S(0);
         for (int k = 0; k < p.a_nnz[r]; ++k) n2 += p.a_val[r][k] * p.a_val[r][k];
         ws.row_scale[kN + r] = n2 > S(0) ? S(1) / std::sqrt(n2) : S(1);
+        const int nnz = p.a_nnz[r];
+        ws.row_first_block[r] =
+            static_cast<BlockIndex>(nnz > 0 ? p.a_col[r][0] >> kScanBlockShift : 0);
+        ws.row_end_block[r] =
+            static_cast<BlockIndex>(nnz > 0 ? (p.a_col[r][nnz - 1] >> kScanBlockShift) + 1 : 0);
       }
       reset_working_set();
       ws.factored = true;
@@ -456,6 +522,7 @@ struct ActiveSetSolver {
     }
     for (int i = 0; i < ws.w_size; ++i) ws.lambda[i] = S(0);
     for (int j = 0; j < p.n; ++j) ws.x[j] = ws.x_unc[j];
+    reset_scan_bookkeeping();
 
     const int cap = (s.max_iterations > 0 && s.max_iterations < D::kMaxIterations)
                         ? s.max_iterations

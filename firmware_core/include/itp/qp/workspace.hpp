@@ -86,6 +86,22 @@ struct QpWorkspace {
   static constexpr std::size_t kCz = static_cast<std::size_t>(kC);
   static constexpr std::size_t kBandz = static_cast<std::size_t>(D::kBandwidth + 1);
   static constexpr std::size_t kLdlz = kAz * (kAz - 1) / 2;
+  static constexpr std::size_t kMz = static_cast<std::size_t>(kM > 0 ? kM : 1);
+  // Variables are grouped in blocks of kScanBlock (>= 8, a power of two, so
+  // that there are at most 254 blocks) for the row-skipping bound of the
+  // violation scan (solver.hpp, most_violated); kScanBlocks blocks.
+  static constexpr int kMaxShiftSteps = 8;  // N < 32767 needs at most 7
+  static constexpr int scan_block_shift() {
+    int shift = 3;
+    for (int k = 0; k < kMaxShiftSteps && (kN >> shift) >= 254; ++k) ++shift;
+    return shift;
+  }
+  static constexpr int kScanBlockShift = scan_block_shift();
+  static constexpr int kScanBlock = 1 << kScanBlockShift;
+  static constexpr int kScanBlocks = (kN + kScanBlock - 1) / kScanBlock;
+  static constexpr std::size_t kScanBlocksz = static_cast<std::size_t>(kScanBlocks);
+  static_assert(kScanBlocks < 255, "block indices are stored as uint8");
+  using BlockIndex = std::uint8_t;
 
   S chol[kNz][kBandz];             // banded Cholesky factor L of H      [N x (Bw+1)]
   S x_unc[kNz];                    // unconstrained optimum -H^-1 g       [N]
@@ -109,6 +125,20 @@ struct QpWorkspace {
   std::int16_t w_index[kAz];       // active constraint ids (0..N-1 bounds, N.. rows) [N+1]
   std::int8_t w_side[kAz];         // active side per position, -1/+1     [N+1]
   std::int8_t active_side[kCz];    // side per constraint id, 0 inactive  [N + M]
+  // Violation-scan bookkeeping (reset at every solve). path_len[b] = sum over
+  // the primal steps of this solve of |dx restricted to block b|_2 (rounded
+  // up); path_prefix[b] = sum of path_len[0..b-1]. row_cert[r] = certified
+  // scaled slack of row r at its last exact evaluation plus the path length
+  // of its blocks at that time: while row_cert[r] - (current path length of
+  // its blocks) > 2 primal_tolerance the row cannot be violated and is not
+  // evaluated.                                               [M], [B], [B+1]
+  S row_cert[kMz];
+  // Blocks touched by row r: first_block[r] .. end_block[r]-1 (set with
+  // row_scale, i.e. whenever A may have changed).                 [M], [M]
+  BlockIndex row_first_block[kMz];
+  BlockIndex row_end_block[kMz];
+  S path_len[kScanBlocksz];
+  S path_prefix[kScanBlocksz + 1];
   int w_size = 0;                 // |W|
   bool last_singular = false;             // last W row is linearly dependent
   bool factored = false;          // chol/m_rows valid for hotstart
