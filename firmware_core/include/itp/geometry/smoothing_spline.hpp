@@ -1,0 +1,44 @@
+#pragma once
+// Natural cubic smoothing spline (Reinsch 1967; Green & Silverman 1994, ch. 2)
+// through knots t_0 < ... < t_{n-1}, fitted to two coordinates at once (x(t)
+// and y(t) share the knots and the penalty):
+//
+//   minimise  sum_i w_i (y_i - g(t_i))^2 + lambda * integral g''(t)^2 dt
+//
+// The minimiser is a natural cubic spline with values g_i and second
+// derivatives gamma_i at the knots (gamma_0 = gamma_{n-1} = 0). With Q the
+// n x (n-2) second-difference matrix and R the (n-2) x (n-2) tridiagonal
+// Gram matrix of the hat functions,
+//
+//   (R + lambda Q^T W^-1 Q) gamma = Q^T y,    g = y - lambda W^-1 Q gamma.
+//
+// The system matrix is symmetric positive definite and pentadiagonal; it is
+// factored once (banded LDL^T, O(n)) and solved for x and y. lambda = 0 gives
+// the interpolating natural cubic spline.
+#include <span>
+
+#include "itp/config.hpp"
+
+namespace itp::geometry {
+
+// Scratch memory for one fit; every array has kMaxReferenceKnots entries.
+struct SmoothingSplineWorkspace {
+  Scalar d[config::kMaxReferenceKnots];   // LDL^T diagonal D
+  Scalar l1[config::kMaxReferenceKnots];  // L sub-diagonal (i, i-1)
+  Scalar l2[config::kMaxReferenceKnots];  // L second sub-diagonal (i, i-2)
+  Scalar a1[config::kMaxReferenceKnots];  // system matrix (i, i+1)
+  Scalar a2[config::kMaxReferenceKnots];  // system matrix (i, i+2)
+  Scalar rhs[config::kMaxReferenceKnots];  // right-hand side, then solution
+};
+
+// Fits one coordinate. t, w, y: n knots, weights [-] (> 0) and data [m];
+// outputs g (fitted values [m]) and gamma (second derivatives d2g/dt2 [1/m]),
+// n entries each. Requires 3 <= n <= kMaxReferenceKnots and strictly
+// increasing t. Returns false if the system is not positive definite
+// (numerically degenerate knots).
+bool fit_smoothing_spline(std::span<const Scalar> t, std::span<const Scalar> w,
+                          std::span<const Scalar> y, Scalar lambda,
+                          SmoothingSplineWorkspace& ws, std::span<Scalar> g,
+                          std::span<Scalar> gamma);
+
+}  // namespace itp::geometry

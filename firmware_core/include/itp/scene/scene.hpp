@@ -1,0 +1,108 @@
+#pragma once
+// The scene the planner receives: one planning problem as plain
+// fixed-capacity data (scene/1, docs/scene.md). Nothing here allocates;
+// capacities come from itp/config.hpp. Positions are in the world frame,
+// angles counter-clockwise from +x.
+#include <cstdint>
+
+#include "itp/config.hpp"
+#include "itp/core/static_vector.hpp"
+#include "itp/geometry/point.hpp"
+
+namespace itp::scene {
+
+using geometry::Point2;
+
+// One [s, l] knot of a piecewise-linear road boundary.
+struct BoundaryPoint {
+  Scalar s = Scalar(0);  // [m] arc length along the reference line
+  Scalar l = Scalar(0);  // [m] lateral offset, positive left
+};
+
+// A road edge as an offset l(s) from the reference line: the constant
+// `offset` when `table` is empty, else linear between the table's knots
+// (strictly ascending s) and constant beyond its first and last knots.
+struct Boundary {
+  Scalar offset = Scalar(0);                                       // [m]
+  StaticVector<BoundaryPoint, config::kMaxBoundaryPoints> table;  // [m, m]
+
+  bool is_constant() const { return table.empty(); }
+  Scalar at(Scalar s) const;  // [m] l of the edge at arc length s [m]
+};
+
+struct Road {
+  Scalar lane_width = Scalar(3.5);          // [m] width of one lane
+  Boundary left{Scalar(1.75), {}};          // [m] left edge of the drivable area (l > right)
+  Boundary right{Scalar(-1.75), {}};        // [m] right edge of the drivable area
+  Scalar target_lane_offset = Scalar(0);    // [m] l of the target lane's centre
+  Scalar speed_limit = Scalar(13.9);        // [m/s]
+};
+
+// Ego state at t = 0; (x, y) is the centre of the rear axle.
+struct EgoState {
+  Scalar x = Scalar(0);        // [m]
+  Scalar y = Scalar(0);        // [m]
+  Scalar heading = Scalar(0);  // [rad]
+  Scalar v = Scalar(0);        // [m/s] >= 0
+  Scalar a = Scalar(0);        // [m/s^2]
+  Scalar kappa = Scalar(0);    // [1/m] path curvature
+};
+
+struct VehicleGeometry {
+  Scalar length = Scalar(4.8);     // [m] bumper to bumper
+  Scalar width = Scalar(1.9);      // [m]
+  Scalar wheelbase = Scalar(2.8);  // [m] rear to front axle
+};
+
+// Dynamic limits. scene/1 carries them only as the optional "ego.limits"
+// object; the defaults are those of a passenger car in comfortable driving.
+struct VehicleLimits {
+  Scalar a_min = Scalar(-6);          // [m/s^2] strongest braking (< 0)
+  Scalar a_max = Scalar(3);           // [m/s^2] strongest acceleration (> 0)
+  Scalar lat_acc_max = Scalar(3);     // [m/s^2] |v^2 kappa| bound
+  Scalar kappa_max = Scalar(0.2);     // [1/m] |kappa| bound (radius 5 m)
+};
+
+struct Ego {
+  EgoState state;
+  VehicleGeometry geometry;
+  VehicleLimits limits;
+};
+
+// A static obstacle: an oriented box, (x, y) its centre.
+struct StaticObstacle {
+  std::int32_t id = 0;
+  Scalar x = Scalar(0);        // [m]
+  Scalar y = Scalar(0);        // [m]
+  Scalar heading = Scalar(0);  // [rad] direction of the length axis
+  Scalar length = Scalar(0);   // [m]
+  Scalar width = Scalar(0);    // [m]
+};
+
+// One time-stamped pose of a dynamic obstacle's box centre.
+struct TimedPose {
+  Scalar t = Scalar(0);        // [s] from the scene's start
+  Scalar x = Scalar(0);        // [m]
+  Scalar y = Scalar(0);        // [m]
+  Scalar heading = Scalar(0);  // [rad]
+  Scalar v = Scalar(0);        // [m/s] along heading
+};
+
+// A moving box with its trajectory (strictly ascending t). Absent before the
+// first t; after the last it moves on at the last velocity and heading.
+struct DynamicObstacle {
+  std::int32_t id = 0;
+  Scalar length = Scalar(0);  // [m]
+  Scalar width = Scalar(0);   // [m]
+  StaticVector<TimedPose, config::kMaxPredictionSamples> trajectory;
+};
+
+struct Scene {
+  StaticVector<Point2, config::kMaxReferencePoints> reference_line;  // [m] lane centre, driving order
+  Road road;
+  Ego ego;
+  StaticVector<StaticObstacle, config::kMaxStaticObstacles> static_obstacles;
+  StaticVector<DynamicObstacle, config::kMaxDynamicObstacles> dynamic_obstacles;
+};
+
+}  // namespace itp::scene

@@ -1,0 +1,57 @@
+#include "itp/geometry/frenet.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "itp/geometry/angle.hpp"
+
+namespace itp::geometry {
+
+Scalar relative_heading(Scalar heading, Scalar ref_heading) {
+  return wrap_angle(heading - ref_heading);
+}
+
+Scalar lateral_slope(Scalar heading, Scalar ref_heading, Scalar ref_kappa, Scalar l) {
+  return (Scalar(1) - ref_kappa * l) * std::tan(relative_heading(heading, ref_heading));
+}
+
+Scalar heading_from_lateral_slope(Scalar l_prime, Scalar ref_heading, Scalar ref_kappa,
+                                  Scalar l) {
+  return wrap_angle(ref_heading + std::atan2(l_prime, Scalar(1) - ref_kappa * l));
+}
+
+SLBox sl_bounding_box(const ReferenceLine& line, const OrientedBox& box, Scalar margin) {
+  const Point2 along{std::cos(box.heading), std::sin(box.heading)};
+  const Point2 across{-along.y, along.x};
+  const Scalar hl = box.length / Scalar(2);
+  const Scalar hw = box.width / Scalar(2);
+  // Corners counter-clockwise; edge k runs from corner k to corner k+1.
+  const Point2 corners[4] = {
+      box.center + hl * along + (-hw) * across, box.center + hl * along + hw * across,
+      box.center + (-hl) * along + hw * across, box.center + (-hl) * along + (-hw) * across};
+  const FrenetPoint first = line.to_frenet(corners[0]);
+  SLBox out{first.s, first.s, first.l, first.l};
+  for (int k = 0; k < 4; ++k) {
+    const Point2 a = corners[k];
+    const Point2 edge = corners[(k + 1) % 4] - a;
+    // Samples at j / pieces of the edge, j = 0 .. pieces-1 (the corner k+1 is
+    // the next edge's first sample).
+    const Scalar pieces_real = std::ceil(norm(edge) / config::kBoxEdgeSampleSpacing);
+    const int pieces = std::clamp(static_cast<int>(pieces_real), 1, config::kMaxBoxEdgeSamples);
+    for (int j = 0; j < config::kMaxBoxEdgeSamples && j < pieces; ++j) {
+      const Scalar f = static_cast<Scalar>(j) / static_cast<Scalar>(pieces);
+      const FrenetPoint q = line.to_frenet(a + f * edge);
+      out.s_min = std::min(out.s_min, q.s);
+      out.s_max = std::max(out.s_max, q.s);
+      out.l_min = std::min(out.l_min, q.l);
+      out.l_max = std::max(out.l_max, q.l);
+    }
+  }
+  out.s_min -= margin;
+  out.s_max += margin;
+  out.l_min -= margin;
+  out.l_max += margin;
+  return out;
+}
+
+}  // namespace itp::geometry

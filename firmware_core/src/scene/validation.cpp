@@ -1,0 +1,235 @@
+#include <cmath>
+#include <initializer_list>
+
+#include "itp/geometry/reference_polyline.hpp"
+#include "itp/scene/validation.hpp"
+
+namespace itp::scene {
+namespace {
+
+using R = ValidationReason;
+
+ValidationResult fail(R reason, int index = -1, int sub_index = -1) {
+  return {reason, static_cast<std::int16_t>(index), static_cast<std::int16_t>(sub_index)};
+}
+
+bool all_finite(std::initializer_list<Scalar> values) {
+  for (const Scalar v : values) {  // bounded by the list's length
+    if (!std::isfinite(v)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool coordinate_ok(Scalar x, Scalar y) {
+  return std::fabs(x) <= config::kMaxCoordinate && std::fabs(y) <= config::kMaxCoordinate;
+}
+
+bool size_ok(Scalar size) { return size > Scalar(0) && size <= config::kMaxObjectSize; }
+
+ValidationResult check_reference_line(const Scene& scene) {
+  const auto& ref = scene.reference_line;
+  for (int i = 0; i < config::kMaxReferencePoints && i < static_cast<int>(ref.size()); ++i) {
+    const Point2 p = ref[static_cast<std::size_t>(i)];
+    if (!geometry::is_finite(p)) {
+      return fail(R::kNonFiniteValue, i);
+    }
+    if (!coordinate_ok(p.x, p.y)) {
+      return fail(R::kCoordinateOutOfRange, i);
+    }
+  }
+  switch (geometry::check_reference_polyline(ref.span())) {
+    case geometry::ReferenceLineStatus::kOk: return {};
+    case geometry::ReferenceLineStatus::kTooFewPoints: return fail(R::kTooFewReferencePoints);
+    case geometry::ReferenceLineStatus::kTooManyPoints: return fail(R::kTooManyReferencePoints);
+    case geometry::ReferenceLineStatus::kNonFinite: return fail(R::kNonFiniteValue);
+    case geometry::ReferenceLineStatus::kRepeatedPoints: return fail(R::kRepeatedReferencePoints);
+    case geometry::ReferenceLineStatus::kSharpTurn: return fail(R::kReferenceLineSharpTurn);
+    case geometry::ReferenceLineStatus::kTooShort: return fail(R::kReferenceLineTooShort);
+    case geometry::ReferenceLineStatus::kFitFailed: return fail(R::kRepeatedReferencePoints);
+  }
+  return fail(R::kReferenceLineSharpTurn);
+}
+
+ValidationResult check_boundary(const Boundary& b, int which) {
+  if (!std::isfinite(b.offset)) {
+    return fail(R::kNonFiniteValue, which);
+  }
+  if (std::fabs(b.offset) > config::kMaxBoundaryOffset) {
+    return fail(R::kBoundaryOutOfRange, which);
+  }
+  const int n = static_cast<int>(b.table.size());
+  for (int i = 0; i < config::kMaxBoundaryPoints && i < n; ++i) {
+    const BoundaryPoint p = b.table[static_cast<std::size_t>(i)];
+    if (!all_finite({p.s, p.l})) {
+      return fail(R::kNonFiniteValue, which, i);
+    }
+    if (std::fabs(p.l) > config::kMaxBoundaryOffset) {
+      return fail(R::kBoundaryOutOfRange, which, i);
+    }
+    if (i > 0 && !(p.s > b.table[static_cast<std::size_t>(i - 1)].s)) {
+      return fail(R::kBoundaryTableNotAscending, which, i);
+    }
+  }
+  return {};
+}
+
+ValidationResult check_road(const Road& road) {
+  if (!all_finite({road.lane_width, road.target_lane_offset, road.speed_limit})) {
+    return fail(R::kNonFiniteValue);
+  }
+  if (const ValidationResult r = check_boundary(road.left, 0); !r.ok()) {
+    return r;
+  }
+  if (const ValidationResult r = check_boundary(road.right, 1); !r.ok()) {
+    return r;
+  }
+  if (!(road.lane_width >= config::kMinLaneWidth && road.lane_width <= config::kMaxLaneWidth)) {
+    return fail(R::kLaneWidthOutOfRange);
+  }
+  // left - right is piecewise linear with kinks only at the tables' knots,
+  // so checking s = 0 and every knot checks every s.
+  if (!(road.left.at(Scalar(0)) > road.right.at(Scalar(0)))) {
+    return fail(R::kBoundariesCrossed);
+  }
+  for (const Boundary* b : {&road.left, &road.right}) {  // 2 boundaries
+    for (int i = 0; i < config::kMaxBoundaryPoints && i < static_cast<int>(b->table.size()); ++i) {
+      const Scalar s = b->table[static_cast<std::size_t>(i)].s;
+      if (!(road.left.at(s) > road.right.at(s))) {
+        return fail(R::kBoundariesCrossed, b == &road.left ? 0 : 1, i);
+      }
+    }
+  }
+  if (std::fabs(road.target_lane_offset) > config::kMaxBoundaryOffset) {
+    return fail(R::kTargetLaneOffsetOutOfRange);
+  }
+  if (!(road.speed_limit > Scalar(0) && road.speed_limit <= config::kMaxAbsoluteSpeed)) {
+    return fail(R::kSpeedLimitOutOfRange);
+  }
+  return {};
+}
+
+ValidationResult check_ego(const Scene& scene) {
+  const EgoState& s = scene.ego.state;
+  const VehicleGeometry& g = scene.ego.geometry;
+  const VehicleLimits& lim = scene.ego.limits;
+  if (!all_finite({s.x, s.y, s.heading, s.v, s.a, s.kappa, g.length, g.width, g.wheelbase,
+                   lim.a_min, lim.a_max, lim.lat_acc_max, lim.kappa_max})) {
+    return fail(R::kNonFiniteValue);
+  }
+  if (!coordinate_ok(s.x, s.y)) {
+    return fail(R::kCoordinateOutOfRange);
+  }
+  if (!(s.v >= Scalar(0) && s.v <= config::kMaxAbsoluteSpeed)) {
+    return fail(R::kEgoSpeedOutOfRange);
+  }
+  if (std::fabs(s.a) > config::kMaxAbsoluteAcceleration) {
+    return fail(R::kEgoAccelerationOutOfRange);
+  }
+  if (std::fabs(s.kappa) > config::kMaxAbsoluteCurvature) {
+    return fail(R::kEgoCurvatureOutOfRange);
+  }
+  if (!size_ok(g.length) || !size_ok(g.width) || !(g.wheelbase > Scalar(0)) ||
+      !(g.wheelbase < g.length)) {
+    return fail(R::kEgoGeometryOutOfRange);
+  }
+  if (!(lim.a_min < Scalar(0) && lim.a_min >= -config::kMaxAbsoluteAcceleration &&
+        lim.a_max > Scalar(0) && lim.a_max <= config::kMaxAbsoluteAcceleration &&
+        lim.lat_acc_max > Scalar(0) && lim.lat_acc_max <= config::kMaxAbsoluteAcceleration &&
+        lim.kappa_max > Scalar(0) && lim.kappa_max <= config::kMaxAbsoluteCurvature)) {
+    return fail(R::kEgoLimitsOutOfRange);
+  }
+  if (geometry::distance_to_polyline(scene.reference_line.span(), {s.x, s.y}) >
+      config::kMaxEgoOffsetFromReference) {
+    return fail(R::kEgoFarFromReferenceLine);
+  }
+  return {};
+}
+
+ValidationResult check_static(const Scene& scene) {
+  const auto& obs = scene.static_obstacles;
+  for (int i = 0; i < config::kMaxStaticObstacles && i < static_cast<int>(obs.size()); ++i) {
+    const StaticObstacle& o = obs[static_cast<std::size_t>(i)];
+    if (!all_finite({o.x, o.y, o.heading, o.length, o.width})) {
+      return fail(R::kNonFiniteValue, i);
+    }
+    if (!coordinate_ok(o.x, o.y)) {
+      return fail(R::kCoordinateOutOfRange, i);
+    }
+    if (!size_ok(o.length) || !size_ok(o.width)) {
+      return fail(R::kObstacleSizeOutOfRange, i);
+    }
+  }
+  return {};
+}
+
+ValidationResult check_dynamic(const Scene& scene) {
+  const auto& obs = scene.dynamic_obstacles;
+  for (int i = 0; i < config::kMaxDynamicObstacles && i < static_cast<int>(obs.size()); ++i) {
+    const DynamicObstacle& o = obs[static_cast<std::size_t>(i)];
+    if (!all_finite({o.length, o.width})) {
+      return fail(R::kNonFiniteValue, i);
+    }
+    if (!size_ok(o.length) || !size_ok(o.width)) {
+      return fail(R::kObstacleSizeOutOfRange, i);
+    }
+    if (o.trajectory.empty()) {
+      return fail(R::kEmptyTrajectory, i);
+    }
+    const int n = static_cast<int>(o.trajectory.size());
+    for (int k = 0; k < config::kMaxPredictionSamples && k < n; ++k) {
+      const TimedPose& p = o.trajectory[static_cast<std::size_t>(k)];
+      if (!all_finite({p.t, p.x, p.y, p.heading, p.v})) {
+        return fail(R::kNonFiniteValue, i, k);
+      }
+      if (!coordinate_ok(p.x, p.y)) {
+        return fail(R::kCoordinateOutOfRange, i, k);
+      }
+      if (!(p.t >= Scalar(0) && p.t <= config::kMaxPredictionTime)) {
+        return fail(R::kPredictionTimeOutOfRange, i, k);
+      }
+      if (k > 0 && !(p.t > o.trajectory[static_cast<std::size_t>(k - 1)].t)) {
+        return fail(R::kPredictionTimesNotIncreasing, i, k);
+      }
+      if (std::fabs(p.v) > config::kMaxAbsoluteSpeed) {
+        return fail(R::kObstacleSpeedOutOfRange, i, k);
+      }
+    }
+  }
+  return {};
+}
+
+// Ids must be unique over static and dynamic obstacles (decisions name them).
+ValidationResult check_ids(const Scene& scene) {
+  constexpr int kMax = config::kMaxObstacles;
+  std::int32_t ids[kMax] = {};
+  int count = 0;
+  for (const StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
+    ids[count++] = o.id;
+  }
+  for (const DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+    ids[count++] = o.id;
+  }
+  for (int i = 0; i < kMax && i < count; ++i) {
+    for (int j = 0; j < i; ++j) {  // j < i < kMax
+      if (ids[i] == ids[j]) {
+        return fail(R::kDuplicateObstacleId, i);
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+ValidationResult validate(const Scene& scene) {
+  if (const ValidationResult r = check_reference_line(scene); !r.ok()) return r;
+  if (const ValidationResult r = check_road(scene.road); !r.ok()) return r;
+  if (const ValidationResult r = check_ego(scene); !r.ok()) return r;
+  if (const ValidationResult r = check_static(scene); !r.ok()) return r;
+  if (const ValidationResult r = check_dynamic(scene); !r.ok()) return r;
+  return check_ids(scene);
+}
+
+}  // namespace itp::scene
