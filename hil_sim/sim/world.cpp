@@ -205,6 +205,11 @@ void to_json(json& j, const World& w) {
   }
 }
 
+// Keys that scene/1 writers may leave out: a missing one takes its default.
+static double optional_number(const json& j, const char* key, const std::string& where, double fallback) {
+  return j.contains(key) ? number(j, key, where) : fallback;
+}
+
 void from_json(const json& j, World& w) {
   if (!j.is_object()) {
     fail("<root>", "must be a JSON object");
@@ -216,10 +221,12 @@ void from_json(const json& j, World& w) {
     fail("format", fmt::format("expected \"scene/1\", got {}", j.at("format").dump()));
   }
   World out;
-  if (!j.contains("name") || !j.at("name").is_string()) {
-    fail("name", "missing or not a string");
+  if (j.contains("name")) {
+    if (!j.at("name").is_string()) {
+      fail("name", "not a string");
+    }
+    out.name = j.at("name").get<std::string>();
   }
-  out.name = j.at("name").get<std::string>();
 
   if (!j.contains("reference_line") || !j.at("reference_line").is_array()) {
     fail("reference_line", "missing or not a list");
@@ -249,7 +256,7 @@ void from_json(const json& j, World& w) {
   }
   out.road.left_boundary = boundary_from_json(road.at("left_boundary"), "road.left_boundary");
   out.road.right_boundary = boundary_from_json(road.at("right_boundary"), "road.right_boundary");
-  out.road.target_lane_offset = number(road, "target_lane_offset", "road");
+  out.road.target_lane_offset = optional_number(road, "target_lane_offset", "road", 0.0);
   out.road.speed_limit = number(road, "speed_limit", "road");
   if (out.road.speed_limit < 0.0) {
     fail("road", "\"speed_limit\" must be >= 0");
@@ -263,16 +270,16 @@ void from_json(const json& j, World& w) {
   out.ego.y = number(e, "y", "ego");
   out.ego.heading = number(e, "heading", "ego");
   out.ego.v = number(e, "v", "ego");
-  out.ego.a = number(e, "a", "ego");
-  out.ego.kappa = number(e, "kappa", "ego");
+  out.ego.a = optional_number(e, "a", "ego", 0.0);
+  out.ego.kappa = optional_number(e, "kappa", "ego", 0.0);
   out.ego.length = positive(e, "length", "ego");
   out.ego.width = positive(e, "width", "ego");
   out.ego.wheelbase = positive(e, "wheelbase", "ego");
 
-  if (!j.contains("static_obstacles") || !j.at("static_obstacles").is_array()) {
-    fail("static_obstacles", "missing or not a list");
+  if (j.contains("static_obstacles") && !j.at("static_obstacles").is_array()) {
+    fail("static_obstacles", "not a list");
   }
-  const json& st = j.at("static_obstacles");
+  const json& st = j.contains("static_obstacles") ? j.at("static_obstacles") : json::array();
   for (std::size_t i = 0; i < st.size(); ++i) {
     const std::string where = fmt::format("static_obstacles[{}]", i);
     const json& o = st[i];
@@ -287,10 +294,10 @@ void from_json(const json& j, World& w) {
     out.static_obstacles.push_back(std::move(so));
   }
 
-  if (!j.contains("dynamic_obstacles") || !j.at("dynamic_obstacles").is_array()) {
-    fail("dynamic_obstacles", "missing or not a list");
+  if (j.contains("dynamic_obstacles") && !j.at("dynamic_obstacles").is_array()) {
+    fail("dynamic_obstacles", "not a list");
   }
-  const json& dy = j.at("dynamic_obstacles");
+  const json& dy = j.contains("dynamic_obstacles") ? j.at("dynamic_obstacles") : json::array();
   for (std::size_t i = 0; i < dy.size(); ++i) {
     const std::string where = fmt::format("dynamic_obstacles[{}]", i);
     const json& o = dy[i];

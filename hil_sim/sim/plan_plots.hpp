@@ -1,0 +1,24 @@
+#pragma once
+// Pictures of one planning cycle, for people: the SL view (road, obstacle
+// boxes, convex zones, the chosen corridor, coarse samples, the path), the XY
+// view (road, obstacles, the ego's footprints along the trajectory) and the ST
+// view (conflict zones of the dynamic obstacles, the speed QP's bounds, s(t)).
+#include <string>
+#include <vector>
+
+#include "itp/planner/planner.hpp"
+#include "itp/scene/scene.hpp"
+
+namespace hil::sim {
+
+std::string plot_sl(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
+                    const std::string& title);
+std::string plot_xy(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
+                    const itp::planner::Plan& plan, const std::string& title);
+std::string plot_st(const itp::planner::Planner& planner, const itp::planner::Plan& plan,
+                    const std::string& title);
+
+// Several SVG documents stacked vertically into one.
+std::string stack_svgs(const std::vector<std::string>& svgs);
+
+}  // namespace hil::sim
