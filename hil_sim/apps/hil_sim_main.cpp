@@ -8,10 +8,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <random>
 
 #include "formats/qp_text.hpp"
+#include "sim/scene_generator.hpp"
+#include "sim/world.hpp"
 #include "itp/link/messages.hpp"
 #include "itp/link/qp_messages.hpp"
 #include "itp/qp/qp.hpp"
@@ -195,6 +198,28 @@ int run_qp_check(const QpCheckOptions& opt) {
   return failures == 0 ? 0 : 1;
 }
 
+struct GenOptions {
+  int count = 200;
+  std::uint64_t seed = 1;
+  std::string out = "scenes";
+};
+
+// Writes generated scenes as scene/1 files DIR/paper-NNNN.json.
+int run_gen(const GenOptions& opt) {
+  std::filesystem::create_directories(opt.out);
+  for (int i = 0; i < opt.count; ++i) {
+    const hil::sim::World w = hil::sim::generate_scene(opt.seed, i);
+    const std::string path = fmt::format("{}/{}.json", opt.out, w.name);
+    const std::string err = hil::sim::save_scene_file(w, path);
+    if (!err.empty()) {
+      fmt::print(stderr, "hil_sim gen: {}\n", err);
+      return 2;
+    }
+  }
+  fmt::print("wrote {} scenes (seed {}) to {}\n", opt.count, opt.seed, opt.out);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -223,6 +248,12 @@ int main(int argc, char** argv) {
   qp_cmd->add_option("--firmware", qp.firmware, "Firmware executable (host) or ELF (qemu)");
   qp_cmd->add_option("--tolerance", qp.tolerance, "Largest relative difference of x accepted")->capture_default_str();
 
+  GenOptions gen;
+  auto* gen_cmd = app.add_subcommand("gen", "Write generated scenes (the paper's envelope) as scene/1 JSON files");
+  gen_cmd->add_option("--count", gen.count, "Number of scenes")->check(CLI::PositiveNumber)->capture_default_str();
+  gen_cmd->add_option("--seed", gen.seed, "Generator seed (same seed, same scenes)")->capture_default_str();
+  gen_cmd->add_option("--out", gen.out, "Output directory")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*ping_cmd) {
@@ -230,6 +261,9 @@ int main(int argc, char** argv) {
     }
     if (*qp_cmd) {
       return run_qp_check(qp);
+    }
+    if (*gen_cmd) {
+      return run_gen(gen);
     }
   } catch (const std::exception& e) {
     fmt::print(stderr, "hil_sim: {}\n", e.what());

@@ -33,6 +33,13 @@ inline constexpr std::uint32_t kUartTxFull = 1u << 0;
 inline constexpr std::uint32_t kUartRxFull = 1u << 1;
 inline constexpr std::uint32_t kUartTxEnable = 1u << 0;
 inline constexpr std::uint32_t kUartRxEnable = 1u << 1;
+inline constexpr std::uint32_t kUartRxIntEnable = 1u << 3;
+inline constexpr std::uint32_t kUartRxInt = 1u << 1;  // INTSTATUS, write 1 to clear
+
+// NVIC: UART0's receive interrupt is device IRQ 0 on this image.
+inline constexpr std::uintptr_t kNvicIser0 = 0xE000E100u;
+inline constexpr std::uintptr_t kNvicIcpr0 = 0xE000E280u;
+inline constexpr std::uint32_t kUart0RxIrqBit = 1u << 0;
 
 inline CmsdkUart& uart0() { return *reinterpret_cast<CmsdkUart*>(kUart0Base); }
 inline CmsdkUart& uart1() { return *reinterpret_cast<CmsdkUart*>(kUart1Base); }

@@ -203,6 +203,9 @@ void CoarseEvaluator::evaluate(const ConvexSpace& space, const Decision& decisio
     return;
   }
   build_qp(in, w, out);
+  if (observer_ != nullptr && observer_->coarse != nullptr) {
+    observer_->coarse(observer_->context, problem_);
+  }
   // H does not depend on the decision (only on the weights), so after the
   // first factorisation every solve is a hotstart: new g and bounds only.
   const bool same_h = have_factor_ && w.l_smooth == factored_weights_.l_smooth &&

@@ -17,6 +17,10 @@ Scalar kappa_ref_at(const PathInput& in, Scalar s) {
   return in.kappa_ref != nullptr ? in.kappa_ref->at(s) : Scalar(0);
 }
 
+Scalar kappa_bound_at(const PathInput& in, Scalar s) {
+  return in.kappa_bound != nullptr ? in.kappa_bound->at(s) : in.kappa_max;
+}
+
 }  // namespace
 
 Scalar PathResult::eval(Scalar s, int derivative) const {
@@ -92,18 +96,21 @@ void PathOptimizer::build(const decision::ConvexSpace& space, const decision::De
       problem_.lba[row + 1] = at_start ? -inf : -in.dl_max;
       problem_.uba[row + 1] = at_start ? inf : in.dl_max;
       const Scalar kr = kappa_ref_at(in, s);
-      problem_.lba[row + 2] = at_start ? -inf : -in.kappa_max - kr;
-      problem_.uba[row + 2] = at_start ? inf : in.kappa_max - kr;
+      const Scalar kb = kappa_bound_at(in, s);
+      problem_.lba[row + 2] = at_start ? -inf : -kb - kr;
+      problem_.uba[row + 2] = at_start ? inf : kb - kr;
       row += 3;
     }
   }
   // Knot bounds: the start is init_sl; elsewhere l' and l'' as the rows.
   for (int j = 1; j < kPathKnots; ++j) {  // kPathBlocks
-    const Scalar kr = kappa_ref_at(in, in.s0 + h * static_cast<Scalar>(j));
+    const Scalar s = in.s0 + h * static_cast<Scalar>(j);
+    const Scalar kr = kappa_ref_at(in, s);
+    const Scalar kb = kappa_bound_at(in, s);
     problem_.lb[var(j, 1)] = -in.dl_max;
     problem_.ub[var(j, 1)] = in.dl_max;
-    problem_.lb[var(j, 2)] = -in.kappa_max - kr;
-    problem_.ub[var(j, 2)] = in.kappa_max - kr;
+    problem_.lb[var(j, 2)] = -kb - kr;
+    problem_.ub[var(j, 2)] = kb - kr;
   }
   problem_.lb[var(0, 0)] = problem_.ub[var(0, 0)] = in.l0;
   problem_.lb[var(0, 1)] = problem_.ub[var(0, 1)] = in.dl0;
@@ -120,6 +127,9 @@ void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::De
     return;
   }
   build(space, decision, in, w, h);
+  if (observer_ != nullptr && observer_->path != nullptr) {
+    observer_->path(observer_->context, problem_);
+  }
   // H and A depend only on h, β and the weights, never on the corridor:
   // hotstart whenever they match (new g and bounds only).
   const bool same = have_factor_ && h == factored_h_ && in.beta == factored_beta_ && w.target == factored_weights_.target &&

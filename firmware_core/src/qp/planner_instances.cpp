@@ -1,5 +1,5 @@
-// Explicit instantiations of the solver for the planner's QP shapes, in the
-// configured Scalar and in float, so that every firmware build (host and
+// Explicit instantiations of the solver for the planner's QP shapes, in
+// double and in float, so that every firmware build (host and
 // Cortex-M7) compiles the whole solver with the embedded rules.
 #include "itp/qp/qp.hpp"
 
@@ -16,10 +16,14 @@ namespace itp::qp {
   template KktResidual<DIMS::Scalar> kkt_residual<DIMS>(const QpProblem<DIMS>&,        \
                                                         const QpResult<DIMS>&);
 
-ITP_QP_INSTANTIATE(PathQpDims<Scalar>)
-ITP_QP_INSTANTIATE(SpeedQpDims<Scalar>)
-ITP_QP_INSTANTIATE(CoarseQpDims<Scalar>)
+// Both scalar types explicitly (not Scalar and float, which coincide in the
+// float build and would instantiate twice).
+ITP_QP_INSTANTIATE(PathQpDims<double>)
+ITP_QP_INSTANTIATE(SpeedQpDims<double>)
+ITP_QP_INSTANTIATE(CoarseQpDims<double>)
 ITP_QP_INSTANTIATE(PathQpDims<float>)
+ITP_QP_INSTANTIATE(SpeedQpDims<float>)
+ITP_QP_INSTANTIATE(CoarseQpDims<float>)
 
 #undef ITP_QP_INSTANTIATE
 

@@ -108,6 +108,9 @@ void SpeedOptimizer::solve(const SpeedInput& in, const SpeedBounds& bounds, cons
     return;
   }
   build(in, bounds, w, h);
+  if (observer_ != nullptr && observer_->speed != nullptr) {
+    observer_->speed(observer_->context, problem_);
+  }
   // H and A depend only on h and the weights: hotstart whenever they match.
   const bool same = have_factor_ && h == factored_h_ && w.s_up == factored_weights_.s_up &&
                     w.v == factored_weights_.v && w.a == factored_weights_.a &&

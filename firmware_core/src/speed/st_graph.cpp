@@ -7,6 +7,7 @@ namespace itp::speed {
 namespace {
 
 constexpr int kProbes = 12;                      // path probes across an obstacle's s-extent
+constexpr int kReachProbes = 24;                 // conservative retry: positions probed per sample
 constexpr Scalar kKappaFloor = Scalar(1e-4);     // [1/m]
 constexpr Scalar kMovingAlong = Scalar(0.5);     // [m/s] slower is not "moving along the path"
 constexpr Scalar kDt = config::kSpeedHorizon / static_cast<Scalar>(kSpeedSamples);  // [s]
@@ -77,6 +78,44 @@ void classify(StDecision& d, const StParams& p, const std::array<Scalar, kStSamp
   d.decision = d.s_lo[u1] >= brake || ego <= d.s_lo[u1] ? Longitudinal::kYield : Longitudinal::kOvertake;
 }
 
+// Tightens the speed QP's bounds by one obstacle's decision (eq. 15-17).
+void apply(const StDecision& d, const StParams& p, const std::array<Scalar, kStSamples>& s_guess,
+           SpeedBounds& b) {
+  for (int k = d.k1; d.decision != Longitudinal::kIgnore && k <= d.k2; ++k) {  // <= kStSamples
+    const auto u = static_cast<std::size_t>(k);
+    if (!d.conflict[u]) {
+      continue;
+    }
+    switch (d.decision) {
+      case Longitudinal::kYield:
+        b.s_hi[u] = min_of(b.s_hi[u], d.s_lo[u]);
+        break;
+      case Longitudinal::kFollow: {
+        // (17): behind by a time gap, and no faster than the leader once the
+        // gap is used up; faster only by what braking can still take back.
+        const Scalar v_obj = max_of(d.speed[u], Scalar(0));
+        const Scalar gap = p.follow_distance + p.follow_time_gap * v_obj;
+        const Scalar limit = d.s_lo[u] + p.longitudinal_margin - gap;
+        b.s_hi[u] = min_of(b.s_hi[u], limit);
+        // The speed condition needs a consistent guess (behind the limit);
+        // a too optimistic one (step 0) leaves the s bound alone to act.
+        if (s_guess[u] <= limit) {
+          const Scalar room = limit - s_guess[u];
+          b.v_hi[u] = min_of(b.v_hi[u], v_obj + std::sqrt(Scalar(-2) * p.limits.a_min * room));
+        }
+        b.v_ref[u] = min_of(b.v_ref[u], v_obj);
+        break;
+      }
+      case Longitudinal::kOvertake:
+        b.s_lo[u] = max_of(b.s_lo[u], d.s_hi[u]);
+        b.v_lo[u] = max_of(b.v_lo[u], min_of(d.speed[u], b.v_hi[u]));
+        break;
+      case Longitudinal::kIgnore:
+        break;
+    }
+  }
+}
+
 }  // namespace
 
 const char* to_string(Longitudinal decision) {
@@ -113,19 +152,28 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
                     const std::array<Scalar, kStSamples>& v_guess, SpeedBounds& b) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
   decisions_.clear();
-  // The road: speed limit along the path at the guessed positions.
+  // s_up: the furthest the ego could be, as the paper's "as fast as allowed".
+  std::array<Scalar, kStSamples> s_ref{};
+  std::array<Scalar, kStSamples> v_ref{};
+  reference_profile(p, config::kSpeedHorizon, s_ref, v_ref);
+  // The road: speed limit along the path at the guessed positions (or, in
+  // the conservative retry, the lowest over the reachable range).
   for (int k = 0; k < kStSamples; ++k) {  // kStSamples
     const auto u = static_cast<std::size_t>(k);
     b.s_lo[u] = 0;
     b.s_hi[u] = inf;
     b.v_lo[u] = 0;
     b.v_hi[u] = speed_limit_at(path, p, p.s0 + s_guess[u]);
+    if (p.conservative) {
+      const Scalar t = kDt * static_cast<Scalar>(k);
+      const Scalar lo = braking_distance(max_of(p.v0, Scalar(0)), p.limits.a_min, t);
+      for (int j = 0; j <= kReachProbes; ++j) {  // kReachProbes + 1 positions
+        const Scalar s = lo + (s_ref[u] - lo) * static_cast<Scalar>(j) / static_cast<Scalar>(kReachProbes);
+        b.v_hi[u] = min_of(b.v_hi[u], speed_limit_at(path, p, p.s0 + s));
+      }
+    }
     b.v_ref[u] = b.v_hi[u];
   }
-  // s_up: the furthest the ego could be, as the paper's "as fast as allowed".
-  std::array<Scalar, kStSamples> s_ref{};
-  std::array<Scalar, kStSamples> v_ref{};
-  reference_profile(p, config::kSpeedHorizon, s_ref, v_ref);
   for (int k = 0; k < kStSamples; ++k) {  // kStSamples
     b.s_ref[static_cast<std::size_t>(k)] = s_ref[static_cast<std::size_t>(k)];
   }
@@ -166,36 +214,34 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
       }
     }
     classify(d, p, s_guess, v_guess);
-    for (int k = d.k1; d.decision != Longitudinal::kIgnore && k <= d.k2; ++k) {  // <= kStSamples
-      const auto u = static_cast<std::size_t>(k);
-      if (!d.conflict[u]) {
-        continue;
-      }
-      switch (d.decision) {
-        case Longitudinal::kYield:
-          b.s_hi[u] = min_of(b.s_hi[u], d.s_lo[u]);
-          break;
-        case Longitudinal::kFollow: {
-          // (17): behind by a time gap, and no faster than the leader once the
-          // gap is used up; faster only by what braking can still take back.
-          const Scalar v_obj = max_of(d.speed[u], Scalar(0));
-          const Scalar gap = p.follow_distance + p.follow_time_gap * v_obj;
-          const Scalar limit = d.s_lo[u] + p.longitudinal_margin - gap;
-          b.s_hi[u] = min_of(b.s_hi[u], limit);
-          const Scalar room = max_of(limit - s_guess[u], Scalar(0));
-          b.v_hi[u] = min_of(b.v_hi[u], v_obj + std::sqrt(Scalar(-2) * p.limits.a_min * room));
-          b.v_ref[u] = min_of(b.v_ref[u], v_obj);
-          break;
-        }
-        case Longitudinal::kOvertake:
-          b.s_lo[u] = max_of(b.s_lo[u], d.s_hi[u]);
-          b.v_lo[u] = max_of(b.v_lo[u], min_of(d.speed[u], b.v_hi[u]));
-          break;
-        case Longitudinal::kIgnore:
-          break;
-      }
+    if (p.conservative && d.decision == Longitudinal::kOvertake) {
+      d.decision = Longitudinal::kYield;
     }
     static_cast<void>(decisions_.push_back(d));
+  }
+  // Upper bounds first (yield, follow), then overtakes, each only if it is
+  // consistent with them and reachable at full acceleration (s_ref); an
+  // overtake that is not becomes a yield. Two passes over <= kMaxDynamicObstacles.
+  for (StDecision& d : decisions_) {
+    if (d.decision == Longitudinal::kYield || d.decision == Longitudinal::kFollow) {
+      apply(d, p, s_guess, b);
+    }
+  }
+  for (StDecision& d : decisions_) {
+    if (d.decision != Longitudinal::kOvertake) {
+      continue;
+    }
+    bool feasible = true;
+    for (int k = d.k1; k <= d.k2; ++k) {  // <= kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      if (d.conflict[u] && d.s_hi[u] > min_of(b.s_hi[u], s_ref[u]) - p.longitudinal_margin) {
+        feasible = false;
+      }
+    }
+    if (!feasible) {
+      d.decision = Longitudinal::kYield;
+    }
+    apply(d, p, s_guess, b);
   }
   // Never ask for less than full braking can give: keep s_hi reachable (a
   // collision that braking cannot avoid is caught by the collision check).

@@ -14,6 +14,7 @@
 #include "itp/decision/curvature_profile.hpp"
 #include "itp/decision/decision_tree.hpp"
 #include "itp/decision/vehicle_limits.hpp"
+#include "itp/qp/planner_observer.hpp"
 #include "itp/qp/qp.hpp"
 
 namespace itp::decision {
@@ -68,6 +69,7 @@ struct CoarseResult {
 // default sizes); one instance serves every decision of a cycle.
 class CoarseEvaluator {
  public:
+  void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
   void evaluate(const ConvexSpace& space, const Decision& decision, const CoarseInput& in,
                 const CoarseWeights& w, CoarseResult& out);
 
@@ -86,6 +88,7 @@ class CoarseEvaluator {
   // after the first is a hotstart (new g and bounds, same factorisation).
   CoarseWeights factored_weights_{};
   bool have_factor_ = false;
+  const qp::PlannerQpObserver* observer_ = nullptr;
 };
 
 // Earliest arrival times t_lb at `count` samples s_0 + i Δs from a forward /

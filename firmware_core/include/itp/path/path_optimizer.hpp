@@ -17,6 +17,7 @@
 #include "itp/decision/convex_space.hpp"
 #include "itp/decision/curvature_profile.hpp"
 #include "itp/decision/decision_tree.hpp"
+#include "itp/qp/planner_observer.hpp"
 #include "itp/qp/qp.hpp"
 
 namespace itp::path {
@@ -47,6 +48,9 @@ struct PathInput {
   Scalar dl_max = Scalar(0.5);          // [-] |l'| bound
   Scalar kappa_max = Scalar(0.2);       // [1/m] curvature limit
   const decision::CurvatureProfile* kappa_ref = nullptr;  // null: straight
+  // |κ| allowed along s, e.g. min(κ_max, a_lat_max / v(s)²) at the expected
+  // speed; null: kappa_max everywhere.
+  const decision::CurvatureProfile* kappa_bound = nullptr;
 };
 
 struct PathResult {
@@ -62,6 +66,7 @@ struct PathResult {
 
 class PathOptimizer {
  public:
+  void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
   void solve(const decision::ConvexSpace& space, const decision::Decision& decision,
              const PathInput& in, const PathWeights& w, PathResult& out);
   // The QP of the last solve (for dumps and tests).
@@ -78,6 +83,7 @@ class PathOptimizer {
   PathWeights factored_weights_{};
   Scalar factored_h_ = 0;
   Scalar factored_beta_ = 0;
+  const qp::PlannerQpObserver* observer_ = nullptr;
   bool have_factor_ = false;
 };
 

@@ -14,6 +14,7 @@
 #include <array>
 
 #include "itp/config.hpp"
+#include "itp/qp/planner_observer.hpp"
 #include "itp/qp/qp.hpp"
 
 namespace itp::speed {
@@ -62,6 +63,7 @@ struct SpeedResult {
 
 class SpeedOptimizer {
  public:
+  void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
   void solve(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w,
              SpeedResult& out);
   const qp::QpProblem<SpeedDims>& problem() const { return problem_; }
@@ -76,6 +78,7 @@ class SpeedOptimizer {
   SpeedWeights factored_weights_{};
   Scalar factored_h_ = 0;
   bool have_factor_ = false;
+  const qp::PlannerQpObserver* observer_ = nullptr;
 };
 
 }  // namespace itp::speed

@@ -61,6 +61,10 @@ struct StParams {
   Scalar follow_time_gap = Scalar(1.2);  // [s] extra gap per m/s of the leader
   Scalar stop_s = -1;  // [m] path s the ego's front must stop before (blocked corridor); < 0: none
   decision::VehicleLimits limits;
+  // The retry when the speed QP was infeasible: every overtake becomes a yield
+  // and the curvature speed limit at t is the lowest over every position the
+  // ego can reach by t (not just the guessed one).
+  bool conservative = false;
   const decision::CurvatureProfile* kappa_ref = nullptr;
 };
 

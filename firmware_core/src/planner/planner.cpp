@@ -1,0 +1,662 @@
+#include "itp/planner/planner.hpp"
+
+#include <cmath>
+
+#include "itp/collision/oriented_box.hpp"
+#include "itp/decision/corridor.hpp"
+#include "itp/geometry/frenet.hpp"
+#include "itp/scene/obstacle_motion.hpp"
+#include "itp/scene/validation.hpp"
+
+namespace itp::planner {
+namespace {
+
+constexpr int kSamples = speed::kStSamples;  // 71 trajectory samples, every 0.1 s
+constexpr Scalar kDt = config::kSpeedHorizon / static_cast<Scalar>(speed::kSpeedSamples);  // [s]
+constexpr Scalar kMinPathLength = Scalar(20);     // [m] shorter horizon: stop
+constexpr Scalar kPreviousPlanMaxAge = Scalar(1);  // [s] older plans are not stitched
+constexpr int kMaxPathAttempts = 4;                // decisions tried by the path QP per iteration
+static_assert(kSamples == config::kTrajectorySamples, "speed samples are the trajectory samples");
+
+Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
+Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
+Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
+
+decision::LateralProfile to_profile(const scene::Boundary& b) {
+  if (b.is_constant()) {
+    return decision::LateralProfile::constant(b.offset);
+  }
+  decision::LateralProfile p;
+  for (const scene::BoundaryPoint& q : b.table) {  // <= kMaxBoundaryPoints
+    static_cast<void>(p.add(q.s, q.l));
+  }
+  return p;
+}
+
+collision::OrientedBox obstacle_box(Scalar x, Scalar y, Scalar heading, Scalar length, Scalar width) {
+  return collision::OrientedBox{x, y, heading, length, width};
+}
+
+// Curvature of a path given in Frenet terms (l, l', l'') over a reference with
+// curvature κ_r (its derivative neglected).
+Scalar cartesian_kappa(Scalar l, Scalar dl, Scalar ddl, Scalar kr) {
+  const Scalar one = Scalar(1) - kr * l;
+  const Scalar dtheta = std::atan2(dl, one);
+  const Scalar c = std::cos(dtheta);
+  const Scalar tn = std::tan(dtheta);
+  return ((ddl + kr * dl * tn) * c * c / one + kr) * c / one;
+}
+
+bool finite_state(const scene::EgoState& e) {
+  return std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.heading) && std::isfinite(e.v);
+}
+
+}  // namespace
+
+const char* to_string(FallbackReason reason) {
+  switch (reason) {
+    case FallbackReason::kNone: return "none";
+    case FallbackReason::kNoDecision: return "no_decision";
+    case FallbackReason::kBlocked: return "blocked";
+    case FallbackReason::kPathQpFailed: return "path_qp_failed";
+    case FallbackReason::kSpeedQpFailed: return "speed_qp_failed";
+    case FallbackReason::kCollision: return "collision";
+    case FallbackReason::kHorizonTooShort: return "horizon_too_short";
+  }
+  return "unknown";
+}
+
+// --- Preparation ------------------------------------------------------------
+
+bool Planner::prepare(const scene::Scene& scene, Scalar now, Plan& out) {
+  const scene::ValidationResult v = scene::validate(scene);
+  if (!v.ok()) {
+    out.status = PlanStatus::kInvalidInput;
+    out.invalid = v.reason;
+    return false;
+  }
+  if (reference_.build(scene.reference_line.span(), spline_ws_) != geometry::ReferenceLineStatus::kOk) {
+    out.status = PlanStatus::kInvalidInput;
+    out.invalid = scene::ValidationReason::kReferenceLineSharpTurn;
+    return false;
+  }
+  const scene::Ego& ego = scene.ego;
+  rear_ = Scalar(0.5) * (ego.geometry.length - ego.geometry.wheelbase);
+  front_ = ego.geometry.length - rear_;
+  const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{ego.state.x, ego.state.y});
+  s_start_ = f.s;
+  length_ = min_of(config::kPathLength, reference_.length() - f.s);
+  if (length_ < kMinPathLength) {
+    return false;  // caller falls back: the map ends too close ahead
+  }
+  kappa_.s0 = s_start_;
+  kappa_.ds = length_ / static_cast<Scalar>(decision::kCurvatureSamples - 1);
+  for (int i = 0; i < decision::kCurvatureSamples; ++i) {  // kCurvatureSamples
+    kappa_.kappa[static_cast<std::size_t>(i)] =
+        reference_.evaluate(kappa_.s0 + kappa_.ds * static_cast<Scalar>(i)).kappa;
+  }
+  road_.left = to_profile(scene.road.left);
+  road_.right = to_profile(scene.road.right);
+  road_.lane_width = scene.road.lane_width;
+  road_.target_lane_offset = scene.road.target_lane_offset;
+  limits_.speed_limit = scene.road.speed_limit;
+  limits_.a_max = min_of(ego.limits.a_max, settings_.comfort_accel);
+  // Braking: the vehicle's hard limit bounds the speed QP (so that an emergency
+  // stays feasible); the QP's cost on s̈ keeps ordinary braking gentle.
+  limits_.a_min = ego.limits.a_min;
+  limits_.a_lat_max = ego.limits.lat_acc_max;
+  limits_.kappa_max = ego.limits.kappa_max;
+  project_obstacles(scene, now);
+  return true;
+}
+
+void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
+  boxes_.clear();
+  for (const scene::StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
+    const geometry::SLBox b = geometry::sl_bounding_box(
+        reference_, geometry::OrientedBox{{o.x, o.y}, o.heading, o.length, o.width}, settings_.static_margin);
+    // Inflated in s by the ego's extents, so constraints on the rear axle cover the car.
+    decision::SlBox sl{b.s_min - front_, b.s_max + rear_, b.l_min, b.l_max, o.id, false};
+    static_cast<void>(boxes_.push_back(sl));
+  }
+  track_count_ = 0;
+  for (const scene::DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+    speed::DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_++)];
+    tr.id = o.id;
+    for (int k = 0; k < kSamples; ++k) {  // kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      const scene::ObstacleSample p = scene::sample_pose(o, now + kDt * static_cast<Scalar>(k));
+      tr.present[u] = p.present;
+      if (!p.present) {
+        continue;
+      }
+      const geometry::SLBox b = geometry::sl_bounding_box(
+          reference_, geometry::OrientedBox{{p.x, p.y}, p.heading, o.length, o.width}, settings_.dynamic_margin);
+      tr.box[u] = decision::SlBox{b.s_min, b.s_max, b.l_min, b.l_max, o.id, true};
+    }
+  }
+}
+
+// Dynamic obstacles enter the convex space where the ego meets them: the first
+// sample at which the ego's guessed position lies within the obstacle's
+// s-extent (grown by the ego's length); obstacles the ego never reaches sit at
+// their last predicted place; `skip` marks those left to the ST graph alone.
+int Planner::place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess, bool* skip) {
+  int placed = 0;
+  for (int i = 0; i < track_count_; ++i) {  // <= kMaxDynamicObstacles
+    const speed::DynamicTrack& tr = tracks_[static_cast<std::size_t>(i)];
+    if (skip[i]) {
+      continue;
+    }
+    int meet = -1;
+    int last = -1;
+    for (int k = 0; k < kSamples && meet < 0; ++k) {  // kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      if (!tr.present[u]) {
+        continue;
+      }
+      last = k;
+      const Scalar ego_s = s_start_ + s_guess[u];
+      if (ego_s >= tr.box[u].s_min - front_ && ego_s <= tr.box[u].s_max + rear_) {
+        meet = k;
+      }
+    }
+    const int k = meet >= 0 ? meet : last;
+    if (k < 0 || tr.box[static_cast<std::size_t>(k)].s_max + rear_ < s_start_) {
+      continue;  // never present, or only behind the ego
+    }
+    decision::SlBox b = tr.box[static_cast<std::size_t>(k)];
+    b.s_min -= front_;
+    b.s_max += rear_;
+    if (boxes_.push_back(b)) {
+      ++placed;
+    }
+  }
+  return placed;
+}
+
+Planner::Start Planner::start_state(const scene::Scene& scene, Scalar now) const {
+  const scene::EgoState& e = scene.ego.state;
+  const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{e.x, e.y});
+  const geometry::CurveSample r = reference_.evaluate(f.s);
+  Start st;
+  st.s = f.s;
+  st.l = f.l;
+  const Scalar one = Scalar(1) - r.kappa * f.l;
+  const Scalar dtheta = geometry::relative_heading(e.heading, r.heading);
+  const Scalar c = std::cos(dtheta);
+  st.dl = geometry::lateral_slope(e.heading, r.heading, r.kappa, f.l);
+  st.ddl = (e.kappa * one / c - r.kappa) * one / (c * c);
+  st.v = e.v * c / one;
+  st.a = e.a * c / one;
+  // Stitching: start from the previous plan where the ego is now, unless it
+  // has deviated beyond the thresholds (then replan from the ego state).
+  const Scalar age = now - previous_time_;
+  if (have_previous_ && age >= 0 && age < kPreviousPlanMaxAge && previous_.status == PlanStatus::kOk &&
+      path_.status == qp::QpStatus::kOptimal && speed_.status == qp::QpStatus::kOptimal) {
+    const Scalar s_plan = path_.s0 + speed_.eval(age, 0);
+    const Scalar l_plan = path_.eval(f.s, 0);
+    const Scalar v_plan = speed_.eval(age, 1);
+    if (std::fabs(l_plan - f.l) < settings_.replan_lateral &&
+        std::fabs(s_plan - f.s) < settings_.replan_longitudinal &&
+        std::fabs(v_plan - st.v) < settings_.replan_speed) {
+      st.l = l_plan;
+      st.dl = path_.eval(f.s, 1);
+      st.ddl = path_.eval(f.s, 2);
+      st.v = max_of(v_plan, Scalar(0));
+      st.a = speed_.eval(age, 2);
+    }
+  }
+  st.a = clamp(st.a, limits_.a_min, limits_.a_max);
+  st.dl = clamp(st.dl, -Scalar(0.5), Scalar(0.5));
+  st.ddl = clamp(st.ddl, -limits_.kappa_max - kappa_.at(st.s), limits_.kappa_max - kappa_.at(st.s));
+  return st;
+}
+
+// The path's curvature bound at the speed the ego is expected to have there:
+// min(κ_max, a_lat_max / v²), never below the reference's own curvature (the
+// speed stage slows the ego for that). v(s) is read off the guessed s(t), v(t).
+void Planner::update_kappa_bound(const std::array<Scalar, speed::kStSamples>& s_guess,
+                                 const std::array<Scalar, speed::kStSamples>& v_guess) {
+  kappa_bound_.s0 = kappa_.s0;
+  kappa_bound_.ds = kappa_.ds;
+  int k = 0;
+  for (int i = 0; i < decision::kCurvatureSamples; ++i) {  // kCurvatureSamples
+    const Scalar s_rel = kappa_.ds * static_cast<Scalar>(i);
+    while (k + 1 < kSamples && s_guess[static_cast<std::size_t>(k + 1)] < s_rel) {  // monotone, < kStSamples in all
+      ++k;
+    }
+    const Scalar v = max_of(v_guess[static_cast<std::size_t>(k)], Scalar(1));
+    const Scalar kr = std::fabs(kappa_.kappa[static_cast<std::size_t>(i)]);
+    Scalar kb = min_of(limits_.kappa_max, limits_.a_lat_max / (v * v));
+    kb = max_of(kb, min_of(kr + Scalar(0.002), limits_.kappa_max));
+    kappa_bound_.kappa[static_cast<std::size_t>(i)] = kb;
+  }
+}
+
+// Kept decisions with a usable coarse QP, by decision cost (eq. 4) plus the
+// hysteresis bonus for keeping last cycle's sides; ties keep the geometric rank.
+int Planner::rank_decisions(std::array<int, config::kKeptDecisions>& order) const {
+  std::array<Scalar, config::kKeptDecisions> cost{};
+  int n = 0;
+  for (std::size_t i = 0; i < decision_.decisions().kept.size(); ++i) {  // <= kKeptDecisions
+    if (!qp::is_usable(decision_.coarse(i).status)) {
+      continue;
+    }
+    cost[static_cast<std::size_t>(n)] = decision_.coarse(i).decision_cost - hysteresis_bonus(static_cast<int>(i));
+    order[static_cast<std::size_t>(n)] = static_cast<int>(i);
+    ++n;
+  }
+  for (int i = 1; i < n; ++i) {  // insertion sort, stable; n <= kKeptDecisions
+    const Scalar c = cost[static_cast<std::size_t>(i)];
+    const int o = order[static_cast<std::size_t>(i)];
+    int j = i - 1;
+    for (; j >= 0 && cost[static_cast<std::size_t>(j)] > c; --j) {
+      cost[static_cast<std::size_t>(j + 1)] = cost[static_cast<std::size_t>(j)];
+      order[static_cast<std::size_t>(j + 1)] = order[static_cast<std::size_t>(j)];
+    }
+    cost[static_cast<std::size_t>(j + 1)] = c;
+    order[static_cast<std::size_t>(j + 1)] = o;
+  }
+  return n;
+}
+
+// Frame-to-frame consistency: a decision that passes every obstacle of the
+// previous cycle's plan on the same side as that plan did earns a bonus, so
+// that near-equal alternatives do not flip between cycles.
+Scalar Planner::hysteresis_bonus(int index) const {
+  if (!have_previous_ || previous_.decisions.empty()) {
+    return 0;
+  }
+  const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
+  int compared = 0;
+  for (const decision::SlBox& b : boxes_) {  // <= kMaxObstacles
+    for (const ObstacleDecision& od : previous_.decisions) {  // <= kMaxObstacles
+      if (od.obstacle != b.obstacle_id || od.lateral == LateralSide::kNone) {
+        continue;
+      }
+      const decision::Side side = decision::side_of(decision_.space(), d, b);
+      const LateralSide now = side == decision::Side::kLeft ? LateralSide::kLeft
+                              : side == decision::Side::kRight ? LateralSide::kRight
+                                                               : LateralSide::kNone;
+      if (now != od.lateral) {
+        return 0;
+      }
+      ++compared;
+    }
+  }
+  return compared > 0 ? settings_.hysteresis : Scalar(0);
+}
+
+// --- Output ----------------------------------------------------------------
+
+void Planner::sample_trajectory(const Start& start, Plan& out) const {
+  out.trajectory.clear();
+  for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
+    const Scalar t = kDt * static_cast<Scalar>(k);
+    const Scalar s = min_of(start.s + speed_.eval(t, 0), reference_.length());
+    const Scalar ds = speed_.eval(t, 1);
+    const Scalar dds = speed_.eval(t, 2);
+    const Scalar l = path_.eval(s, 0);
+    const Scalar dl = path_.eval(s, 1);
+    const Scalar ddl = path_.eval(s, 2);
+    const geometry::CurveSample r = reference_.evaluate(s);
+    const Scalar one = Scalar(1) - r.kappa * l;
+    const Scalar dtheta = std::atan2(dl, one);
+    TrajectoryPoint p;
+    p.t = t;
+    p.s = s;
+    p.l = l;
+    p.x = r.position.x - l * std::sin(r.heading);
+    p.y = r.position.y + l * std::cos(r.heading);
+    p.heading = geometry::heading_from_lateral_slope(dl, r.heading, r.kappa, l);
+    p.kappa = cartesian_kappa(l, dl, ddl, r.kappa);
+    p.v = max_of(ds, Scalar(0)) * one / std::cos(dtheta);
+    p.a = dds * one / std::cos(dtheta);
+    static_cast<void>(out.trajectory.push_back(p));
+  }
+}
+
+bool Planner::collides(const scene::Scene& scene, Scalar now, const Plan& plan) const {
+  const scene::VehicleGeometry& g = scene.ego.geometry;
+  for (const TrajectoryPoint& p : plan.trajectory) {  // kTrajectorySamples
+    const collision::OrientedBox ego = collision::box_from_rear_axle(p.x, p.y, p.heading, g.length, g.width, rear_);
+    for (const scene::StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
+      if (collision::overlap(ego, obstacle_box(o.x, o.y, o.heading, o.length, o.width))) {
+        return true;
+      }
+    }
+    for (const scene::DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+      const scene::ObstacleSample q = scene::sample_pose(o, now + p.t);
+      if (q.present && collision::overlap(ego, obstacle_box(q.x, q.y, q.heading, o.length, o.width))) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+void Planner::record_decisions(Plan& out) const {
+  out.decisions.clear();
+  if (chosen_ < 0) {
+    return;
+  }
+  const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
+  for (const decision::SlBox& b : boxes_) {  // <= kMaxObstacles
+    ObstacleDecision od;
+    od.obstacle = b.obstacle_id;
+    od.dynamic = b.dynamic;
+    const decision::Side side = decision::side_of(decision_.space(), d, b);
+    od.lateral = side == decision::Side::kLeft ? LateralSide::kLeft
+                 : side == decision::Side::kRight ? LateralSide::kRight
+                                                  : LateralSide::kNone;
+    static_cast<void>(out.decisions.push_back(od));
+  }
+  for (const speed::StDecision& sd : st_.decisions()) {  // <= kMaxDynamicObstacles
+    bool found = false;
+    for (ObstacleDecision& od : out.decisions) {  // <= kMaxObstacles
+      if (od.obstacle == sd.id && od.dynamic) {
+        od.longitudinal = sd.decision;
+        found = true;
+      }
+    }
+    if (!found) {
+      ObstacleDecision od;
+      od.obstacle = sd.id;
+      od.dynamic = true;
+      od.longitudinal = sd.decision;
+      static_cast<void>(out.decisions.push_back(od));
+    }
+  }
+}
+
+// A safe stop: brake at the comfortable limit along the previous plan's path
+// if there is one, else along the current lateral offset of the reference
+// line, else (no usable reference) straight ahead.
+void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason reason, Plan& out) {
+  if (out.status != PlanStatus::kInvalidInput) {
+    out.status = PlanStatus::kFallback;
+    out.fallback = reason;
+  }
+  out.trajectory.clear();
+  const bool have_state = scene != nullptr && finite_state(scene->ego.state);
+  const Scalar v0 = have_state ? max_of(scene->ego.state.v, Scalar(0)) : Scalar(0);
+  const Scalar decel = settings_.comfort_decel;  // < 0
+  const bool on_previous = have_previous_ && previous_.trajectory.size() > 1 && now - previous_time_ >= 0 &&
+                           now - previous_time_ < kPreviousPlanMaxAge && out.status != PlanStatus::kInvalidInput;
+  const bool on_reference = !on_previous && have_state && reference_.valid() && out.status != PlanStatus::kInvalidInput;
+  const geometry::FrenetPoint f = on_reference ? reference_.to_frenet({scene->ego.state.x, scene->ego.state.y})
+                                               : geometry::FrenetPoint{};
+  for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
+    const Scalar t = kDt * static_cast<Scalar>(k);
+    const Scalar t_stop = v0 / -decel;
+    const Scalar tt = min_of(t, t_stop);
+    const Scalar d = v0 * tt + Scalar(0.5) * decel * tt * tt;
+    TrajectoryPoint p;
+    p.t = t;
+    p.v = max_of(v0 + decel * t, Scalar(0));
+    p.a = t < t_stop ? decel : Scalar(0);
+    if (on_previous) {
+      // Walk the previous trajectory by arc length d from where the ego is now.
+      const Scalar s_begin = previous_.trajectory[0].s + (now - previous_time_) * previous_.trajectory[0].v;
+      const Scalar target = s_begin + d;
+      const TrajectoryPoint* a = &previous_.trajectory[0];
+      const TrajectoryPoint* b = &previous_.trajectory[0];
+      for (std::size_t i = 1; i < previous_.trajectory.size(); ++i) {  // kTrajectorySamples
+        b = &previous_.trajectory[i];
+        if (b->s >= target) {
+          break;
+        }
+        a = b;
+      }
+      const Scalar span = b->s - a->s;
+      const Scalar u = span > Scalar(1e-6) ? clamp((target - a->s) / span, Scalar(0), Scalar(1)) : Scalar(0);
+      const Scalar extra = target > b->s ? target - b->s : Scalar(0);
+      p.x = a->x + u * (b->x - a->x) + extra * std::cos(b->heading);
+      p.y = a->y + u * (b->y - a->y) + extra * std::sin(b->heading);
+      p.heading = a->heading + u * (b->heading - a->heading);
+      p.kappa = a->kappa;
+      p.s = target;
+      p.l = a->l + u * (b->l - a->l);
+    } else if (on_reference) {
+      const Scalar s = min_of(f.s + d, reference_.length());
+      const geometry::CurveSample r = reference_.evaluate(s);
+      p.s = s;
+      p.l = f.l;
+      p.x = r.position.x - f.l * std::sin(r.heading);
+      p.y = r.position.y + f.l * std::cos(r.heading);
+      p.heading = r.heading;
+      p.kappa = r.kappa;
+    } else if (have_state) {
+      const scene::EgoState& e = scene->ego.state;
+      p.x = e.x + d * std::cos(e.heading);
+      p.y = e.y + d * std::sin(e.heading);
+      p.heading = e.heading;
+      p.s = d;
+    }
+    static_cast<void>(out.trajectory.push_back(p));
+  }
+}
+
+// --- The iteration (paper §2) -------------------------------------------------
+
+bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) {
+  std::array<Scalar, kSamples> s_guess{};
+  std::array<Scalar, kSamples> v_guess{};
+  speed::StParams stp;
+  stp.s0 = start.s;
+  stp.v0 = start.v;
+  stp.front = front_;
+  stp.rear = rear_;
+  stp.half_width = Scalar(0.5) * scene.ego.geometry.width;
+  stp.limits = limits_;
+  stp.kappa_ref = &kappa_;
+  speed::reference_profile(stp, config::kSpeedHorizon, s_guess, v_guess);  // step 0
+
+  decision::ConvexSpaceParams cp;
+  cp.s_start = start.s;
+  cp.s_end = start.s + length_;
+  cp.vehicle_width = scene.ego.geometry.width;
+  cp.ego_l = start.l;
+  decision::CoarseInput ci;
+  ci.l_init = start.l;
+  ci.v_init = start.v;
+  ci.l_ref = scene.road.target_lane_offset;
+  ci.vehicle_width = scene.ego.geometry.width;
+  ci.stop_margin = settings_.stop_margin;
+  ci.limits = limits_;
+  ci.kappa_ref = &kappa_;
+  path::PathInput pi;
+  pi.s0 = start.s;
+  pi.length = length_;
+  pi.l0 = start.l;
+  pi.dl0 = start.dl;
+  pi.ddl0 = start.ddl;
+  pi.l_target = scene.road.target_lane_offset;
+  pi.vehicle_width = scene.ego.geometry.width;
+  pi.kappa_max = limits_.kappa_max;
+  pi.kappa_ref = &kappa_;
+  speed::SpeedInput si;
+  si.v0 = start.v;
+  si.a0 = start.a;
+  si.a_min = limits_.a_min;
+  si.a_max = limits_.a_max;
+
+  const std::size_t n_static = boxes_.size();
+  std::array<Scalar, kSamples> last_s{};
+  std::array<Scalar, kSamples> last_l{};
+  bool safe = false;
+  for (int iter = 0; iter < config::kMaxPlannerIterations; ++iter) {  // the paper's iteration
+    out.iterations = iter + 1;
+    // 1.1 Convex space and decision, with dynamic obstacles at their meeting places.
+    std::uint64_t t0 = ticks_.ticks();
+    bool skip[config::kMaxDynamicObstacles] = {};
+    decision::DecisionStatus ds = decision::DecisionStatus::kNoDecision;
+    for (int round = 0; round <= config::kMaxDynamicObstacles; ++round) {  // one more per left-out obstacle
+      while (boxes_.size() > n_static) {  // drop last round's dynamic boxes
+        boxes_.pop_back();
+      }
+      place_dynamic(s_guess, skip);
+      ds = decision_.run(road_, boxes_.span(), cp, ci, settings_.decision_weights);
+      ++out.timing.decision_runs;
+      if (ds != decision::DecisionStatus::kBlocked) {
+        break;
+      }
+      // A corridor blocked by a moving obstacle is not a wall: leave that
+      // obstacle to the ST graph (follow or yield) and decide again.
+      const decision::Decision& best = decision_.decisions().kept[static_cast<std::size_t>(decision_.best())];
+      bool dropped = false;
+      for (std::size_t i = n_static; i < boxes_.size() && !dropped; ++i) {  // <= kMaxDynamicObstacles
+        const decision::SlBox& b = boxes_[i];
+        if (b.s_min <= best.reach + Scalar(0.5) && b.s_max >= best.reach) {
+          for (int j = 0; j < track_count_; ++j) {  // <= kMaxDynamicObstacles
+            if (tracks_[static_cast<std::size_t>(j)].id == b.obstacle_id && !skip[j]) {
+              skip[j] = true;
+              dropped = true;
+            }
+          }
+        }
+      }
+      if (!dropped) {
+        break;  // blocked by static obstacles: a real stop
+      }
+    }
+    out.timing.decision += ticks_.ticks() - t0;
+    for (std::size_t i = 0; i < decision_.decisions().kept.size(); ++i) {  // <= kKeptDecisions
+      ++out.qp_solves;
+      out.qp_iterations += decision_.coarse(i).qp_iterations;
+    }
+    if (ds == decision::DecisionStatus::kNoDecision || ds == decision::DecisionStatus::kInvalidInput ||
+        decision_.best() < 0) {
+      fallback(&scene, now_, FallbackReason::kNoDecision, out);
+      return false;
+    }
+    // 1.2 Path QP in the best corridor, curvature bounded at the expected
+    // speed; if that is too tight for the corridor, at the steering limit
+    // only (the speed stage then slows the ego down for it). A corridor the
+    // smooth path cannot follow (the coarse QP only sees samples every few
+    // metres) gives way to the next decision in cost order.
+    t0 = ticks_.ticks();
+    update_kappa_bound(s_guess, v_guess);
+    std::array<int, config::kKeptDecisions> order{};
+    const int candidates = rank_decisions(order);
+    chosen_ = -1;
+    for (int attempt = 0; attempt < candidates && attempt < kMaxPathAttempts && chosen_ < 0; ++attempt) {
+      const int index = order[static_cast<std::size_t>(attempt)];
+      const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
+      for (int relax = 0; relax < 2; ++relax) {  // expected-speed bound, then steering limit only
+        pi.kappa_bound = relax == 0 ? &kappa_bound_ : nullptr;
+        path_opt_.solve(decision_.space(), d, pi, settings_.path_weights, path_);
+        ++out.qp_solves;
+        out.qp_iterations += path_.iterations;
+        if (qp::is_usable(path_.status)) {
+          chosen_ = index;
+          break;
+        }
+      }
+    }
+    out.timing.path += ticks_.ticks() - t0;
+    if (chosen_ < 0) {
+      fallback(&scene, now_, FallbackReason::kPathQpFailed, out);
+      return false;
+    }
+    const decision::Decision& chosen = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
+    blocked_ = !chosen.reaches_end;
+
+    // 1.3 ST graph and speed QP along the path.
+    t0 = ticks_.ticks();
+    stp.stop_s = blocked_ ? chosen.reach + front_ - settings_.stop_margin : Scalar(-1);
+    st_.build(path_, std::span<const speed::DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
+              stp, s_guess, v_guess, bounds_);
+    speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+    ++out.qp_solves;
+    out.qp_iterations += speed_.iterations;
+    if (!qp::is_usable(speed_.status)) {
+      // Retry once conservatively: yield instead of overtaking, and the
+      // curvature speed limit over every reachable position.
+      stp.conservative = true;
+      st_.build(path_, std::span<const speed::DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
+                stp, s_guess, v_guess, bounds_);
+      speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+      stp.conservative = false;
+      ++out.qp_solves;
+      out.qp_iterations += speed_.iterations;
+    }
+    out.timing.speed += ticks_.ticks() - t0;
+    if (!qp::is_usable(speed_.status)) {
+      fallback(&scene, now_, FallbackReason::kSpeedQpFailed, out);
+      return false;
+    }
+
+    // Check with the real footprints, and measure the change from the last step.
+    t0 = ticks_.ticks();
+    sample_trajectory(start, out);
+    safe = !collides(scene, now_, out);
+    Scalar change_s = 0;
+    Scalar change_l = 0;
+    for (int k = 0; k < kSamples; ++k) {  // kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      const Scalar s = speed_.eval(kDt * static_cast<Scalar>(k), 0);
+      const Scalar l = out.trajectory[u].l;
+      change_s = max_of(change_s, std::fabs(s - last_s[u]));
+      change_l = max_of(change_l, std::fabs(l - last_l[u]));
+      last_s[u] = s;
+      last_l[u] = l;
+      s_guess[u] = s;
+      v_guess[u] = speed_.eval(kDt * static_cast<Scalar>(k), 1);
+    }
+    out.timing.check += ticks_.ticks() - t0;
+    const bool converged = iter > 0 && change_s < settings_.converge_s && change_l < settings_.converge_l;
+    if (safe && converged) {
+      break;
+    }
+    if (blocked_ && safe && iter > 0) {
+      break;
+    }
+  }
+  if (!safe) {
+    fallback(&scene, now_, FallbackReason::kCollision, out);
+    return false;
+  }
+  record_decisions(out);
+  if (blocked_) {
+    // No corridor passes the static obstacles: the optimised trajectory is a
+    // stop before them, reported as a fallback.
+    out.status = PlanStatus::kFallback;
+    out.fallback = FallbackReason::kBlocked;
+    return false;
+  }
+  out.status = PlanStatus::kOk;
+  out.fallback = FallbackReason::kNone;
+  return true;
+}
+
+PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
+  const std::uint64_t t_begin = ticks_.ticks();
+  out = Plan{};
+  out.timing.tick_hz = ticks_.hz;
+  chosen_ = -1;
+  if (request.scene == nullptr) {
+    out.status = PlanStatus::kInvalidInput;
+    fallback(nullptr, request.now, FallbackReason::kNone, out);
+    return out.status;
+  }
+  const scene::Scene& scene = *request.scene;
+  now_ = request.now;
+  const bool prepared = prepare(scene, request.now, out);
+  out.timing.prepare = ticks_.ticks() - t_begin;
+  if (!prepared) {
+    fallback(&scene, request.now, out.status == PlanStatus::kInvalidInput ? FallbackReason::kNone
+                                                                         : FallbackReason::kHorizonTooShort, out);
+  } else {
+    const Start start = start_state(scene, request.now);
+    iterate(scene, start, out);
+  }
+  out.timing.total = ticks_.ticks() - t_begin;
+  previous_ = out;
+  previous_time_ = request.now;
+  have_previous_ = out.status == PlanStatus::kOk;
+  return out.status;
+}
+
+}  // namespace itp::planner

@@ -1,0 +1,137 @@
+// Google Benchmark of the planner (docs/performance.md): the full cycle over
+// generated scenes of the paper's envelope, and the decision stage on the
+// busiest scenes (10 static + 5 dynamic obstacles). Timing is measured here,
+// never asserted in tests.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <numeric>
+#include <vector>
+
+#include "itp/planner/planner.hpp"
+#include "sim/scene_convert.hpp"
+#include "sim/scene_generator.hpp"
+
+namespace {
+
+constexpr std::uint64_t kSeed = 2026;
+constexpr int kEnvelopeScenes = 120;
+constexpr int kBusyScenes = 40;
+
+std::uint64_t now_ns() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
+}
+
+std::vector<itp::scene::Scene> make_scenes(int count, const hil::sim::GeneratorConfig& config) {
+  std::vector<itp::scene::Scene> scenes;
+  for (const hil::sim::World& w : hil::sim::default_suite(count, kSeed, config)) {
+    itp::scene::Scene s;
+    if (hil::sim::make_planner_scene(w, hil::sim::ego_at_start(w), 0.0, hil::sim::Prediction::kGroundTruth, s).ok) {
+      scenes.push_back(s);
+    }
+  }
+  return scenes;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const auto i = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(i, v.size() - 1)];
+}
+
+struct Samples {
+  std::vector<double> total_us, decision_us, path_us, speed_us, check_us, prepare_us, decision_run_us;
+  std::vector<double> iterations;
+  int ok = 0, fallback = 0, invalid = 0;
+};
+
+void plan_all(const std::vector<itp::scene::Scene>& scenes, itp::planner::Planner& planner,
+              itp::planner::Plan& plan, Samples& out) {
+  for (const auto& s : scenes) {
+    planner.reset();  // every scene is a first cycle: no stitching
+    planner.plan(itp::planner::PlanRequest{&s, 0.0}, plan);
+    const auto us = [](std::uint64_t ns) { return static_cast<double>(ns) / 1e3; };
+    out.total_us.push_back(us(plan.timing.total));
+    out.prepare_us.push_back(us(plan.timing.prepare));
+    out.decision_us.push_back(us(plan.timing.decision));
+    out.path_us.push_back(us(plan.timing.path));
+    out.speed_us.push_back(us(plan.timing.speed));
+    out.check_us.push_back(us(plan.timing.check));
+    if (plan.timing.decision_runs > 0) {
+      out.decision_run_us.push_back(us(plan.timing.decision) / plan.timing.decision_runs);
+    }
+    out.iterations.push_back(plan.iterations);
+    out.ok += plan.status == itp::PlanStatus::kOk ? 1 : 0;
+    out.fallback += plan.status == itp::PlanStatus::kFallback ? 1 : 0;
+    out.invalid += plan.status == itp::PlanStatus::kInvalidInput ? 1 : 0;
+  }
+}
+
+void report(benchmark::State& state, const Samples& s) {
+  const auto mean = [](const std::vector<double>& v) {
+    return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+  };
+  state.counters["median_us"] = percentile(s.total_us, 0.5);
+  state.counters["p99_us"] = percentile(s.total_us, 0.99);
+  state.counters["max_us"] = percentile(s.total_us, 1.0);
+  state.counters["decision_run_median_us"] = percentile(s.decision_run_us, 0.5);
+  state.counters["decision_run_max_us"] = percentile(s.decision_run_us, 1.0);
+  state.counters["share_prepare"] = mean(s.prepare_us) / mean(s.total_us);
+  state.counters["share_decision"] = mean(s.decision_us) / mean(s.total_us);
+  state.counters["share_path"] = mean(s.path_us) / mean(s.total_us);
+  state.counters["share_speed"] = mean(s.speed_us) / mean(s.total_us);
+  state.counters["share_check"] = mean(s.check_us) / mean(s.total_us);
+  state.counters["iterations_mean"] = mean(s.iterations);
+  state.counters["iterations_max"] = percentile(s.iterations, 1.0);
+  state.counters["ok"] = s.ok;
+  state.counters["fallback"] = s.fallback;
+}
+
+// One benchmark iteration = every scene planned once; the counters give the
+// per-scene distribution (median, p99, max) over all iterations.
+void run_suite(benchmark::State& state, const std::vector<itp::scene::Scene>& scenes) {
+  auto planner = std::make_unique<itp::planner::Planner>();
+  auto plan = std::make_unique<itp::planner::Plan>();
+  planner->set_tick_source(itp::TickSource{&now_ns, 1000000000u});
+  Samples samples;
+  for (auto _ : state) {
+    Samples one;
+    plan_all(scenes, *planner, *plan, one);
+    benchmark::DoNotOptimize(plan->trajectory.data());
+    samples.total_us.insert(samples.total_us.end(), one.total_us.begin(), one.total_us.end());
+    samples.prepare_us.insert(samples.prepare_us.end(), one.prepare_us.begin(), one.prepare_us.end());
+    samples.decision_us.insert(samples.decision_us.end(), one.decision_us.begin(), one.decision_us.end());
+    samples.path_us.insert(samples.path_us.end(), one.path_us.begin(), one.path_us.end());
+    samples.speed_us.insert(samples.speed_us.end(), one.speed_us.begin(), one.speed_us.end());
+    samples.check_us.insert(samples.check_us.end(), one.check_us.begin(), one.check_us.end());
+    samples.decision_run_us.insert(samples.decision_run_us.end(), one.decision_run_us.begin(), one.decision_run_us.end());
+    samples.iterations.insert(samples.iterations.end(), one.iterations.begin(), one.iterations.end());
+    samples.ok = one.ok;
+    samples.fallback = one.fallback;
+  }
+  report(state, samples);
+}
+
+void BM_FullCycle_Envelope(benchmark::State& state) {
+  static const auto scenes = make_scenes(kEnvelopeScenes, hil::sim::GeneratorConfig{});
+  run_suite(state, scenes);
+}
+
+void BM_FullCycle_Busy_10s_5d(benchmark::State& state) {
+  hil::sim::GeneratorConfig busy;
+  busy.min_static = busy.max_static = 10;
+  busy.min_dynamic = busy.max_dynamic = 5;
+  static const auto scenes = make_scenes(kBusyScenes, busy);
+  run_suite(state, scenes);
+}
+
+}  // namespace
+
+BENCHMARK(BM_FullCycle_Envelope)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_FullCycle_Busy_10s_5d)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+BENCHMARK_MAIN();

@@ -1,0 +1,195 @@
+// Scenario tests of the complete planner. Assertions are physical and checked
+// independently of the planner's internals: positions, clearances from the
+// real oriented boxes, accelerations, curvature and lateral acceleration
+// recomputed from the trajectory samples.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+
+#include "heap_guard.hpp"
+#include "itp/collision/oriented_box.hpp"
+#include "itp/planner/planner.hpp"
+#include "itp/scene/obstacle_motion.hpp"
+#include "scene_builder.hpp"
+
+using namespace itp::planner;
+using namespace planner_test;
+
+namespace {
+
+struct Run {
+  std::unique_ptr<Planner> planner = std::make_unique<Planner>();
+  std::unique_ptr<Plan> plan = std::make_unique<Plan>();
+  itp::PlanStatus status = itp::PlanStatus::kInvalidInput;
+
+  void go(const Scene& s, double now = 0) {
+    PlanRequest req{&s, now};
+    test_support::HeapGuard guard;
+    status = planner->plan(req, *plan);
+  }
+};
+
+double rear_overhang(const Scene& s) { return 0.5 * (s.ego.geometry.length - s.ego.geometry.wheelbase); }
+
+// Smallest distance between the ego's footprint and any obstacle over the plan.
+double min_clearance(const Scene& s, const Plan& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const TrajectoryPoint& q : p.trajectory) {
+    const auto ego = itp::collision::box_from_rear_axle(q.x, q.y, q.heading, s.ego.geometry.length,
+                                                        s.ego.geometry.width, rear_overhang(s));
+    for (const auto& o : s.static_obstacles) {
+      best = std::min(best, itp::collision::distance(ego, {o.x, o.y, o.heading, o.length, o.width}));
+    }
+    for (const auto& o : s.dynamic_obstacles) {
+      const auto pose = itp::scene::sample_pose(o, q.t);
+      if (pose.present) {
+        best = std::min(best, itp::collision::distance(ego, {pose.x, pose.y, pose.heading, o.length, o.width}));
+      }
+    }
+  }
+  return best;
+}
+
+// Limits every returned trajectory must respect, recomputed from its samples.
+void check_limits(const Scene& s, const Plan& p) {
+  REQUIRE(p.trajectory.size() == static_cast<std::size_t>(itp::config::kTrajectorySamples));
+  const auto& lim = s.ego.limits;
+  for (std::size_t k = 0; k < p.trajectory.size(); ++k) {
+    const TrajectoryPoint& q = p.trajectory[k];
+    CHECK(std::isfinite(q.x));
+    CHECK(std::isfinite(q.y));
+    CHECK(q.t == doctest::Approx(0.1 * static_cast<double>(k)));
+    CHECK(q.v >= -1e-6);
+    CHECK(q.a <= lim.a_max + 0.2);
+    CHECK(q.a >= lim.a_min - 0.2);
+    CHECK(std::fabs(q.kappa) <= lim.kappa_max + 1e-3);
+    CHECK(std::fabs(q.v * q.v * q.kappa) <= lim.lat_acc_max + 0.3);
+    if (k > 0) {
+      // Positions advance consistently with the speed (finite differences).
+      const TrajectoryPoint& a = p.trajectory[k - 1];
+      const double step = std::hypot(q.x - a.x, q.y - a.y);
+      CHECK(step == doctest::Approx(0.05 * (a.v + q.v)).epsilon(0.1).scale(1.0));
+    }
+  }
+  // Road boundaries: every ego corner inside [right, left] (lateral offset l).
+  for (const TrajectoryPoint& q : p.trajectory) {
+    CHECK(q.l + 0.5 * s.ego.geometry.width <= s.road.left.offset + 0.2);
+    CHECK(q.l - 0.5 * s.ego.geometry.width >= s.road.right.offset - 0.2);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("free road: smooth cruise up to the speed limit, in lane") {
+  Scene s = road_scene(1, 0);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(r.plan->trajectory.back().v == doctest::Approx(15).epsilon(0.05));
+  for (const auto& q : r.plan->trajectory) {
+    CHECK(std::fabs(q.l) < 0.1);
+  }
+  CHECK(r.plan->iterations >= 1);
+  CHECK(r.plan->iterations <= itp::config::kMaxPlannerIterations);
+}
+
+TEST_CASE("static obstacle in lane: passes with clearance and returns to the lane") {
+  Scene s = road_scene(1, 0, 0, 250);
+  add_static(s, 1, 45, 0.2);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(min_clearance(s, *r.plan) >= 0.2);
+  bool passes_left = false;
+  for (const auto& d : r.plan->decisions) {
+    if (d.obstacle == 1) passes_left = d.lateral == LateralSide::kLeft;
+  }
+  CHECK(passes_left);
+}
+
+TEST_CASE("slow leader with no room to pass: follows at a safe gap") {
+  Scene s = road_scene(0, 0);
+  add_mover(s, 7, 30, 0, 0, 6);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(min_clearance(s, *r.plan) >= 4.0);
+  bool follows = false;
+  for (const auto& d : r.plan->decisions) {
+    if (d.obstacle == 7) follows = d.longitudinal == itp::speed::Longitudinal::kFollow;
+  }
+  CHECK(follows);
+}
+
+TEST_CASE("every lane blocked: fallback that stops before the obstacle within the deceleration limit") {
+  Scene s = road_scene(1, 0);
+  add_static(s, 1, 50, 0.0, 0, 4.5, 2.0);
+  add_static(s, 2, 50, 3.5, 0, 4.5, 2.0);
+  Run r;
+  r.go(s);
+  CHECK(r.status == itp::PlanStatus::kFallback);
+  check_limits(s, *r.plan);
+  CHECK(min_clearance(s, *r.plan) > 0.5);
+  // At the end of the horizon the ego is slow and near enough its stop that
+  // braking at 3 m/s² keeps the front bumper behind the obstacles (rear at 47.75 m).
+  const TrajectoryPoint& end = r.plan->trajectory.back();
+  const double front = s.ego.geometry.length - rear_overhang(s);
+  CHECK(end.x + front + end.v * end.v / (2 * 3.0) <= 47.75);
+  CHECK(end.v < 5.0);
+}
+
+TEST_CASE("crossing pedestrian: the ego yields") {
+  Scene s = road_scene(1, 0);
+  add_mover(s, 9, 32, -5, M_PI / 2, 1.3, 0.8, 0.8);
+  Run r;
+  r.go(s);
+  CHECK(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(min_clearance(s, *r.plan) >= 0.5);
+}
+
+TEST_CASE("curved road of 50 m radius: lateral acceleration within its limit") {
+  Scene s = road_scene(1, 0, 50, 150);
+  s.road.speed_limit = 20;
+  s.ego.state.kappa = 1.0 / 50;
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  for (const auto& q : r.plan->trajectory) {
+    CHECK(q.v * q.v / 50.0 <= s.ego.limits.lat_acc_max + 0.3);
+  }
+}
+
+TEST_CASE("invalid input gives invalid_input with a safe stopping trajectory, never a crash") {
+  Scene s = road_scene(1, 0);
+  s.ego.state.v = std::numeric_limits<double>::quiet_NaN();
+  Run r;
+  r.go(s);
+  CHECK(r.status == itp::PlanStatus::kInvalidInput);
+  CHECK(r.plan->invalid == itp::scene::ValidationReason::kNonFiniteValue);
+  REQUIRE(r.plan->trajectory.size() == static_cast<std::size_t>(itp::config::kTrajectorySamples));
+  for (const auto& q : r.plan->trajectory) {
+    CHECK(std::isfinite(q.x));
+    CHECK(q.v == 0);
+  }
+}
+
+TEST_CASE("identical input gives bit-identical output") {
+  Scene s = road_scene(1, 0);
+  add_static(s, 1, 45, 0.2);
+  add_mover(s, 2, 60, 3.5, M_PI, 8);
+  Run a;
+  Run b;
+  a.go(s);
+  b.go(s);
+  REQUIRE(a.plan->trajectory.size() == b.plan->trajectory.size());
+  CHECK(std::memcmp(a.plan->trajectory.data(), b.plan->trajectory.data(),
+                    sizeof(TrajectoryPoint) * a.plan->trajectory.size()) == 0);
+}
