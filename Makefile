@@ -55,6 +55,8 @@ test: deps
 
 sim: deps host-release
 	$(HIL_SIM) ping --target qemu --firmware $(FIRMWARE_ELF) --count 10 --garbage
+	$(HIL_SIM) qp-check --target qemu --firmware $(FIRMWARE_ELF) tests/qp/data/*.qp
+	build/host-release/hil_sim/planner_cli batch --count 200 --seed 1
 
 clean:
 	rm -rf build

@@ -6,8 +6,11 @@
 namespace itp::decision {
 namespace {
 
-// Cuts closer than this merge: slivers would only add zones nobody can use.
-constexpr Scalar kMinSliceLength = Scalar(0.05);  // [m]
+// Cuts closer than this merge (the later one is dropped, so boxes only grow
+// in s, never shrink): a car cannot change its lateral position within a
+// sliver of free road between two obstacles, so such a slice must not link
+// zones that the path could never connect.
+constexpr Scalar kMinSliceLength = Scalar(2.0);  // [m]
 constexpr int kMaxCuts = 2 * config::kMaxObstacles + 2;
 
 bool finite_box(const SlBox& b) {

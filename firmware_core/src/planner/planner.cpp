@@ -47,6 +47,22 @@ Scalar cartesian_kappa(Scalar l, Scalar dl, Scalar ddl, Scalar kr) {
   return ((ddl + kr * dl * tn) * c * c / one + kr) * c / one;
 }
 
+// SL box of a moving obstacle from one projection of its centre: the box's
+// half extents along and across the reference at its relative heading. Its
+// error on a curved road is about κ·L²/8 (6 cm for a 5 m car on a 50 m
+// radius), well inside the dynamic margin; 355 boxes per cycle make the exact
+// edge-sampled version (about 20 projections each) the planner's largest cost.
+decision::SlBox moving_box_sl(const geometry::ReferenceLine& line, Scalar x, Scalar y, Scalar heading,
+                              Scalar length, Scalar width, Scalar margin, std::int32_t id) {
+  const geometry::FrenetPoint c = line.to_frenet(geometry::Point2{x, y});
+  const Scalar rel = geometry::relative_heading(heading, line.evaluate(c.s).heading);
+  const Scalar cs = std::fabs(std::cos(rel));
+  const Scalar sn = std::fabs(std::sin(rel));
+  const Scalar half_s = Scalar(0.5) * (cs * length + sn * width) + margin;
+  const Scalar half_l = Scalar(0.5) * (sn * length + cs * width) + margin;
+  return decision::SlBox{c.s - half_s, c.s + half_s, c.l - half_l, c.l + half_l, id, true};
+}
+
 bool finite_state(const scene::EgoState& e) {
   return std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.heading) && std::isfinite(e.v);
 }
@@ -130,9 +146,7 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
       if (!p.present) {
         continue;
       }
-      const geometry::SLBox b = geometry::sl_bounding_box(
-          reference_, geometry::OrientedBox{{p.x, p.y}, p.heading, o.length, o.width}, settings_.dynamic_margin);
-      tr.box[u] = decision::SlBox{b.s_min, b.s_max, b.l_min, b.l_max, o.id, true};
+      tr.box[u] = moving_box_sl(reference_, p.x, p.y, p.heading, o.length, o.width, settings_.dynamic_margin, o.id);
     }
   }
 }

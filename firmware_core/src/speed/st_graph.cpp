@@ -43,11 +43,20 @@ bool path_conflicts(const path::PathResult& path, const StParams& p, const decis
   return false;
 }
 
-// Distance the ego covers braking at a_min from v0 by time t (then standing).
+// The speed spline is C2 and starts at the current acceleration, so full
+// braking cannot begin at once: allow this long to build it up.
+constexpr Scalar kBrakeOnset = Scalar(0.3);  // [s]
+
+// Distance the ego covers by time t braking at a_min after kBrakeOnset at v0
+// (then standing): the least any speed profile can cover.
 Scalar braking_distance(Scalar v0, Scalar a_min, Scalar t) {
+  if (t <= kBrakeOnset) {
+    return v0 * t;
+  }
   const Scalar t_stop = v0 / -a_min;
-  const Scalar tt = t < t_stop ? t : t_stop;
-  return v0 * tt + Scalar(0.5) * a_min * tt * tt;
+  const Scalar tb = t - kBrakeOnset;
+  const Scalar tt = tb < t_stop ? tb : t_stop;
+  return v0 * kBrakeOnset + v0 * tt + Scalar(0.5) * a_min * tt * tt;
 }
 
 // Picks the decision from where the ego is expected to be (s_guess, v_guess)
@@ -250,7 +259,7 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
     const Scalar t = kDt * static_cast<Scalar>(k);
     const Scalar v0 = max_of(p.v0, Scalar(0));
     const Scalar s_min = braking_distance(v0, p.limits.a_min, t);
-    const Scalar v_min = max_of(v0 + p.limits.a_min * t, Scalar(0));
+    const Scalar v_min = max_of(v0 + p.limits.a_min * max_of(t - kBrakeOnset, Scalar(0)), Scalar(0));
     b.s_hi[u] = max_of(b.s_hi[u], s_min + Scalar(0.01));
     b.s_lo[u] = min_of(b.s_lo[u], b.s_hi[u]);
     b.v_hi[u] = max_of(max_of(b.v_hi[u], b.v_lo[u]), v_min + Scalar(0.01));
