@@ -1,0 +1,31 @@
+#pragma once
+// What the closed loop talks to: a planner that takes one cycle's Scene and
+// returns a Plan. `inproc` calls the planner directly (and, to exercise the
+// framing, may pass the bytes through a loopback link); `host` and `qemu`
+// send a Scene message over the serial-like link to a firmware and decode
+// its Plan message (hil_sim/link/, docs/protocol.md).
+#include <string>
+
+#include "itp/planner/plan.hpp"
+#include "itp/scene/scene.hpp"
+
+namespace hil::sim {
+
+struct EndpointResult {
+  bool ok = false;            // false: timeout, corrupt or missing reply (counted as a link error)
+  std::string error;          // for people, when !ok
+  double cycle_time_us = -1;  // host targets: the planner's own total time; < 0 when not measured
+  double instructions = -1;   // qemu: instructions of the planning cycle (40 per tick); < 0 when not measured
+};
+
+class PlannerEndpoint {
+ public:
+  virtual ~PlannerEndpoint() = default;
+  // A new scene starts: the planner forgets its previous plan (no stitching across scenes).
+  virtual void reset() = 0;
+  // Plans one cycle at scene time `now` (the Scene's predictions are relative to `now`).
+  virtual EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) = 0;
+  virtual std::string name() const = 0;  // "inproc", "host", "qemu"
+};
+
+}  // namespace hil::sim
