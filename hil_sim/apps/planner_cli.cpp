@@ -141,7 +141,7 @@ int run(const Options& opt, bool decide_only) {
     observer.speed = [](void* c, const auto& p) { static_cast<QpDumper*>(c)->write("speed", p); };
     planner->set_qp_observer(&observer);
   }
-  planner->plan(itp::planner::PlanRequest{scene.get(), 0.0}, *plan);
+  planner->plan(itp::planner::PlanRequest{scene.get(), opt.now}, *plan);
 
   json out = decide_only ? decision_json(*planner) : hil::formats::plan_to_json(*plan);
   if (!decide_only) {
@@ -175,7 +175,7 @@ int run(const Options& opt, bool decide_only) {
     const std::string name = world.name.empty() ? opt.scene_file : world.name;
     std::vector<std::string> parts{hil::sim::plot_sl(*planner, *scene, fmt::format("{}: SL view, zones and chosen corridor", name))};
     if (!decide_only) {
-      parts.push_back(hil::sim::plot_xy(*planner, *scene, *plan, fmt::format("{}: XY view, status {}", name, itp::to_string(plan->status))));
+      parts.push_back(hil::sim::plot_xy(*planner, *scene, *plan, opt.now, fmt::format("{}: XY view, status {}", name, itp::to_string(plan->status))));
       parts.push_back(hil::sim::plot_st(*planner, *plan, fmt::format("{}: ST view", name)));
     }
     if (!hil::sim::svg::write_text_file(opt.svg, hil::sim::stack_svgs(parts))) {

@@ -102,7 +102,7 @@ std::string plot_sl(const itp::planner::Planner& planner, const itp::scene::Scen
 }
 
 std::string plot_xy(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
-                    const itp::planner::Plan& plan, const std::string& title) {
+                    const itp::planner::Plan& plan, double now, const std::string& title) {
   const auto& line = planner.reference_line();
   double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
   std::vector<Point2> left, right, ref;
@@ -143,7 +143,7 @@ std::string plot_xy(const itp::planner::Planner& planner, const itp::scene::Scen
     c.box(OrientedBox{p.x + ahead * std::cos(p.heading), p.y + ahead * std::sin(p.heading), p.heading, g.length, g.width},
           Style(svg::colour::kEgo, "none", 1.2, op));
     for (const auto& o : scene.dynamic_obstacles) {
-      const auto q = itp::scene::sample_pose(o, p.t);
+      const auto q = itp::scene::sample_pose(o, now + p.t);
       if (q.present) {
         c.box(OrientedBox{q.x, q.y, q.heading, o.length, o.width}, Style(svg::colour::kDynamic, "none", 1.2, op));
       }

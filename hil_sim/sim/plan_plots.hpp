@@ -13,8 +13,9 @@ namespace hil::sim {
 
 std::string plot_sl(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
                     const std::string& title);
+// `now`: the scene time the plan was made at (obstacles are drawn at now + t).
 std::string plot_xy(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
-                    const itp::planner::Plan& plan, const std::string& title);
+                    const itp::planner::Plan& plan, double now, const std::string& title);
 std::string plot_st(const itp::planner::Planner& planner, const itp::planner::Plan& plan,
                     const std::string& title);
 

@@ -23,7 +23,7 @@ class PlannerEndpoint {
   virtual ~PlannerEndpoint() = default;
   // A new scene starts: the planner forgets its previous plan (no stitching across scenes).
   virtual void reset() = 0;
-  // Plans one cycle at scene time `now` (the Scene's predictions are relative to `now`).
+  // Plans one cycle at scene time `now` (the Scene's predictions are in scene time).
   virtual EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) = 0;
   virtual std::string name() const = 0;  // "inproc", "host", "qemu"
 };

@@ -105,7 +105,7 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
     for (int k = 0; k <= steps; ++k) {
       const double t = kPredictionStep * k;
       itp::scene::TimedPose p;
-      p.t = t;
+      p.t = now + t;  // scene time: the planner samples predictions from its request's `now`
       if (mode == Prediction::kGroundTruth) {
         const std::optional<Pose> q = pose_at(o, now + t);
         if (!q) {

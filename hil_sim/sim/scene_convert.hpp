@@ -27,7 +27,7 @@ struct ConvertResult {
 };
 
 // Predictions are sampled every 0.1 s from `now` over the horizon (plus 0.5 s),
-// with times relative to `now`: plan the result with PlanRequest::now = 0.
+// time-stamped in scene time: plan the result with PlanRequest::now = now.
 ConvertResult make_planner_scene(const World& world, const EgoNow& ego, double now, Prediction mode,
                                  itp::scene::Scene& out);
 

@@ -81,7 +81,7 @@ TEST_CASE("predictions: ground truth from now, or constant velocity from the cur
   REQUIRE(make_planner_scene(w, ego, 2.0, Prediction::kConstantVelocity, cv).ok);
   REQUIRE(truth.dynamic_obstacles.size() == 1);
   const auto& t4 = truth.dynamic_obstacles[0].trajectory;
-  CHECK(t4[0].t == 0.0);
+  CHECK(t4[0].t == doctest::Approx(2.0));  // scene time
   CHECK(t4[0].x == doctest::Approx(46));
   CHECK(t4[10].y == doctest::Approx(2.0));   // still moving in: 3.5 - 0.5 * 3
   const auto& c4 = cv.dynamic_obstacles[0].trajectory;
