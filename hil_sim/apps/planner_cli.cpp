@@ -20,6 +20,8 @@
 #include "sim/plan_plots.hpp"
 #include "sim/scene_convert.hpp"
 #include "sim/scene_generator.hpp"
+#include "sim/link_endpoint.hpp"
+#include "itp/link/planner_messages.hpp"
 #include "sim/svg.hpp"
 
 namespace {
@@ -197,18 +199,52 @@ struct BatchOptions {
   int count = 100;
   std::uint64_t seed = 1;
   bool verbose = false;
+  std::string target = "inproc";
+  std::string firmware;
+  bool compare = false;
+  double tolerance = 0.01;  // [m] largest position difference accepted by --compare
 };
+
+// The in-process plan of the scene exactly as a firmware receives it (float
+// on the wire), to compare a target's answer with.
+void plan_as_received(const itp::scene::Scene& scene, int stride, itp::planner::Planner& planner,
+                      itp::planner::Plan& out) {
+  static std::array<std::uint8_t, itp::config::kMaxPayloadBytes> body{};
+  static itp::scene::Scene wire;
+  const std::size_t n = itp::link::encode_scene({1, 0.0, true}, scene, stride, body);
+  itp::link::SceneHeader h;
+  if (n == 0 || !itp::link::decode_scene(std::span<const std::uint8_t>(body.data(), n), h, wire)) {
+    out = itp::planner::Plan{};
+    return;
+  }
+  planner.reset();
+  planner.plan(itp::planner::PlanRequest{&wire, 0.0}, out);
+}
 
 // Open-loop batch: plans the first cycle of generated scenes and tallies
 // statuses, fallback reasons, iterations and time.
 int run_batch(const BatchOptions& opt) {
   auto planner = std::make_unique<itp::planner::Planner>();
+  auto reference = std::make_unique<itp::planner::Planner>();
   auto plan = std::make_unique<itp::planner::Plan>();
+  auto expected = std::make_unique<itp::planner::Plan>();
   auto scene = std::make_unique<itp::scene::Scene>();
   planner->set_tick_source(itp::TickSource{&host_ticks, 1000000000u});
+  std::unique_ptr<hil::sim::PlannerEndpoint> remote;
+  if (opt.target != "inproc") {
+    std::string error;
+    remote = hil::sim::make_link_endpoint(opt.target, opt.firmware, &error);
+    if (!remote) {
+      fmt::print(stderr, "planner_cli: {}\n", error);
+      return 2;
+    }
+  }
   std::map<std::string, int> outcomes;
   std::vector<double> times;
+  std::vector<double> instructions;
   double iterations = 0;
+  double worst = 0;
+  int mismatches = 0;
   for (int i = 0; i < opt.count; ++i) {
     const hil::sim::World w = hil::sim::generate_scene(opt.seed, i);
     const auto conv = hil::sim::make_planner_scene(w, hil::sim::ego_at_start(w), 0.0, hil::sim::Prediction::kGroundTruth, *scene);
@@ -216,13 +252,39 @@ int run_batch(const BatchOptions& opt) {
       ++outcomes["convert_error"];
       continue;
     }
-    planner->reset();
-    planner->plan(itp::planner::PlanRequest{scene.get(), 0.0}, *plan);
+    if (remote) {
+      remote->reset();
+      const auto r = remote->plan(*scene, 0.0, *plan);
+      if (!r.ok) {
+        ++outcomes["link_error"];
+        continue;
+      }
+      if (r.instructions >= 0) instructions.push_back(r.instructions);
+      if (opt.compare) {
+        plan_as_received(*scene, opt.target == "qemu" ? 5 : 1, *reference, *expected);
+        double diff = expected->status == plan->status && expected->trajectory.size() == plan->trajectory.size() ? 0.0 : 1e9;
+        for (std::size_t k = 0; diff < 1e9 && k < plan->trajectory.size(); ++k) {
+          diff = std::max(diff, std::hypot(plan->trajectory[k].x - expected->trajectory[k].x,
+                                           plan->trajectory[k].y - expected->trajectory[k].y));
+        }
+        worst = std::max(worst, diff);
+        if (diff > opt.tolerance) {
+          ++mismatches;
+          fmt::print("{}: {} differs from inproc by {:.3g} m (status {} vs {})\n", w.name, opt.target, diff,
+                     itp::to_string(plan->status), itp::to_string(expected->status));
+        }
+      }
+    } else {
+      planner->reset();
+      planner->plan(itp::planner::PlanRequest{scene.get(), 0.0}, *plan);
+    }
     std::string key = itp::to_string(plan->status);
     if (plan->status == itp::PlanStatus::kFallback) key += std::string(":") + itp::planner::to_string(plan->fallback);
     if (plan->status == itp::PlanStatus::kInvalidInput) key += std::string(":") + itp::scene::to_string(plan->invalid);
     ++outcomes[key];
-    times.push_back(static_cast<double>(plan->timing.total) / 1e3);
+    if (plan->timing.tick_hz > 0) {
+      times.push_back(static_cast<double>(plan->timing.total) * 1e6 / static_cast<double>(plan->timing.tick_hz));
+    }
     iterations += plan->iterations;
     if (opt.verbose && plan->status != itp::PlanStatus::kOk) {
       fmt::print("{:<12} {:<28} iterations {}  {}\n", w.name, key, plan->iterations, fmt::join(w.tags, ","));
@@ -230,9 +292,19 @@ int run_batch(const BatchOptions& opt) {
   }
   std::sort(times.begin(), times.end());
   for (const auto& [k, n] : outcomes) fmt::print("{:<36} {:4}\n", k, n);
-  if (!times.empty()) {
-    fmt::print("time per cycle [us]: median {:.0f}, max {:.0f}; iterations mean {:.2f}\n", times[times.size() / 2],
-               times.back(), iterations / static_cast<double>(times.size()));
+  if (!times.empty() && opt.target != "qemu") {
+    fmt::print("time per cycle [us]: median {:.0f}, max {:.0f}\n", times[times.size() / 2], times.back());
+  }
+  std::sort(instructions.begin(), instructions.end());
+  if (!instructions.empty()) {
+    fmt::print("instructions per cycle (Cortex-M7, QEMU icount): median {:.3g}, max {:.3g}\n",
+               instructions[instructions.size() / 2], instructions.back());
+  }
+  fmt::print("iterations mean {:.2f} over {} plans\n", iterations / std::max<double>(1, static_cast<double>(opt.count)), opt.count);
+  if (opt.compare) {
+    fmt::print("largest position difference {} vs inproc: {:.3g} m, {} mismatches (tolerance {} m)\n", opt.target,
+               worst, mismatches, opt.tolerance);
+    return mismatches == 0 && outcomes.count("link_error") == 0 ? 0 : 1;
   }
   return 0;
 }
@@ -264,6 +336,12 @@ int main(int argc, char** argv) {
   batch->add_option("--count", batch_opt.count, "Scenes")->capture_default_str();
   batch->add_option("--seed", batch_opt.seed, "Generator seed")->capture_default_str();
   batch->add_flag("--verbose", batch_opt.verbose, "List every scene that does not plan ok");
+  batch->add_option("--target", batch_opt.target, "Where the planner runs")
+      ->check(CLI::IsMember({"inproc", "host", "qemu"}))
+      ->capture_default_str();
+  batch->add_option("--firmware", batch_opt.firmware, "Firmware executable (host) or ELF (qemu)");
+  batch->add_flag("--compare", batch_opt.compare, "Compare every target plan with the in-process planner's");
+  batch->add_option("--tolerance", batch_opt.tolerance, "Position tolerance of --compare [m]")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     if (*batch) return run_batch(batch_opt);

@@ -1,6 +1,7 @@
 #include "itp/app/firmware_service.hpp"
 
 #include "itp/link/messages.hpp"
+#include "itp/link/planner_messages.hpp"
 #include "itp/link/qp_messages.hpp"
 
 namespace itp::app {
@@ -27,6 +28,13 @@ std::span<const std::uint8_t> FirmwareService::dispatch(const link::FrameView& f
       pong.ticks = ticks_.ticks();
       pong.tick_hz = ticks_.hz;
       return reply(link::MessageType::kPong, seq, link::encode(pong, payload_));
+    }
+    case link::MessageType::kPlanRequest: {
+      const std::size_t n = plan_cycle(frame.payload);
+      if (n == 0) {
+        break;
+      }
+      return reply(link::MessageType::kPlanReply, seq, n);
     }
     case link::MessageType::kQpSolveRequest: {
       const std::size_t n = solve_qp(frame.payload);
@@ -63,6 +71,20 @@ std::size_t FirmwareService::solve_qp(std::span<const std::uint8_t> request) {
     out.x[i] = static_cast<double>(qp_result_.x[i]);
   }
   return link::encode(out, payload_);
+}
+
+std::size_t FirmwareService::plan_cycle(std::span<const std::uint8_t> request) {
+  link::SceneHeader header;
+  if (!link::decode_scene(request, header, scene_)) {
+    return 0;
+  }
+  if (header.reset) {
+    planner_.reset();
+  }
+  planner_.plan(planner::PlanRequest{&scene_, static_cast<Scalar>(header.now)}, plan_);
+  const double ox = scene_.reference_line.empty() ? 0.0 : static_cast<double>(scene_.reference_line[0].x);
+  const double oy = scene_.reference_line.empty() ? 0.0 : static_cast<double>(scene_.reference_line[0].y);
+  return link::encode_plan(header.cycle, ox, oy, plan_, payload_);
 }
 
 std::span<const std::uint8_t> FirmwareService::reply(link::MessageType type,

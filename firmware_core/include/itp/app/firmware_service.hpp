@@ -9,18 +9,23 @@
 
 #include "itp/core/tick_source.hpp"
 #include "itp/link/frame_decoder.hpp"
+#include "itp/planner/planner.hpp"
 #include "itp/qp/qp.hpp"
+#include "itp/scene/scene.hpp"
 
 namespace itp::app {
 
 class FirmwareService {
  public:
-  // All-zero initial state, so a static instance lands in .bss, not .data.
-  constexpr FirmwareService() = default;
+  // The firmware constructs it in place in zeroed static storage (.bss).
+  FirmwareService() = default;
   // `build_id` must outlive the service (a string literal in practice).
   void set_build_id(const char* build_id) { build_id_ = build_id; }
   // The port's counter, reported in Pong and used for per-stage timing.
-  void set_tick_source(TickSource source) { ticks_ = source; }
+  void set_tick_source(TickSource source) {
+    ticks_ = source;
+    planner_.set_tick_source(source);
+  }
 
   // Feeds one received byte. Returns the encoded reply frame to send (a view
   // into an internal buffer, valid until the next call), or an empty span.
@@ -32,6 +37,7 @@ class FirmwareService {
  private:
   std::span<const std::uint8_t> dispatch(const link::FrameView& frame);
   std::size_t solve_qp(std::span<const std::uint8_t> request);
+  std::size_t plan_cycle(std::span<const std::uint8_t> request);
   std::span<const std::uint8_t> reply(link::MessageType type, std::uint16_t sequence,
                                       std::size_t payload_size);
 
@@ -47,6 +53,11 @@ class FirmwareService {
   qp::QpProblem<TargetQpDims> qp_problem_{};
   qp::QpWorkspace<TargetQpDims> qp_workspace_{};
   qp::QpResult<TargetQpDims> qp_result_{};
+
+  // Planning service: one cycle per Scene message.
+  scene::Scene scene_{};
+  planner::Planner planner_{};
+  planner::Plan plan_{};
 };
 
 }  // namespace itp::app

@@ -31,6 +31,8 @@ enum class MessageType : std::uint8_t {
   kPong = 0x02,
   kQpSolveRequest = 0x10,  // host -> firmware: solve this QP on the target
   kQpSolveReply = 0x11,
+  kPlanRequest = 0x20,  // host -> firmware: a Scene; plan one cycle
+  kPlanReply = 0x21,    // firmware -> host: the Plan
   kError = 0x7F,  // reply to a request the firmware cannot serve
 };
 

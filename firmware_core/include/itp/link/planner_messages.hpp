@@ -1,0 +1,32 @@
+#pragma once
+// Scene and Plan messages (docs/protocol.md, "Planner messages"): one planning
+// cycle over the link. Positions travel as float32 offsets from an origin
+// (the first reference point, float64), so a 300 m scene keeps ~0.1 mm; the
+// predictions may be thinned (every `stride`-th sample) to save link time,
+// the planner interpolates between samples.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "itp/planner/plan.hpp"
+#include "itp/scene/scene.hpp"
+
+namespace itp::link {
+
+struct SceneHeader {
+  std::uint32_t cycle = 0;  // counter of the sender, echoed in the Plan
+  double now = 0;           // [s] scene time of this cycle
+  bool reset = false;       // first cycle of a new scene: forget the previous plan
+};
+
+// Returns the payload size, 0 if it does not fit `out`.
+std::size_t encode_scene(const SceneHeader& header, const scene::Scene& scene, int prediction_stride,
+                         std::span<std::uint8_t> out);
+// False on a malformed body or a count beyond capacity (then `scene` is unusable).
+bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& header, scene::Scene& scene);
+
+std::size_t encode_plan(std::uint32_t cycle, double origin_x, double origin_y, const planner::Plan& plan,
+                        std::span<std::uint8_t> out);
+bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle, planner::Plan& plan);
+
+}  // namespace itp::link

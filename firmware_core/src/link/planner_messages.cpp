@@ -1,0 +1,260 @@
+#include "itp/link/planner_messages.hpp"
+
+#include "itp/link/byte_codec.hpp"
+
+namespace itp::link {
+namespace {
+
+constexpr std::uint8_t kResetFlag = 1u;
+
+float f(Scalar v) { return static_cast<float>(v); }
+Scalar s(float v) { return static_cast<Scalar>(v); }
+
+void put_boundary(ByteWriter& w, const scene::Boundary& b) {
+  w.u8(static_cast<std::uint8_t>(b.table.size()));
+  w.f32(f(b.offset));
+  for (const scene::BoundaryPoint& p : b.table) {  // <= kMaxBoundaryPoints
+    w.f32(f(p.s));
+    w.f32(f(p.l));
+  }
+}
+
+bool get_boundary(ByteReader& r, scene::Boundary& b) {
+  const int n = r.u8();
+  b.offset = s(r.f32());
+  b.table.clear();
+  if (n > config::kMaxBoundaryPoints) {
+    return false;
+  }
+  for (int i = 0; i < n; ++i) {  // <= kMaxBoundaryPoints
+    scene::BoundaryPoint p;
+    p.s = s(r.f32());
+    p.l = s(r.f32());
+    static_cast<void>(b.table.push_back(p));
+  }
+  return r.ok();
+}
+
+}  // namespace
+
+std::size_t encode_scene(const SceneHeader& h, const scene::Scene& sc, int stride, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  const double ox = sc.reference_line.empty() ? 0.0 : static_cast<double>(sc.reference_line[0].x);
+  const double oy = sc.reference_line.empty() ? 0.0 : static_cast<double>(sc.reference_line[0].y);
+  const auto rx = [&](Scalar x) { return static_cast<float>(static_cast<double>(x) - ox); };
+  const auto ry = [&](Scalar y) { return static_cast<float>(static_cast<double>(y) - oy); };
+  w.u32(h.cycle);
+  w.f64(h.now);
+  w.u8(h.reset ? kResetFlag : 0u);
+  w.f64(ox);
+  w.f64(oy);
+  w.u8(static_cast<std::uint8_t>(sc.reference_line.size()));
+  for (const geometry::Point2& p : sc.reference_line) {  // <= kMaxReferencePoints
+    w.f32(rx(p.x));
+    w.f32(ry(p.y));
+  }
+  w.f32(f(sc.road.lane_width));
+  w.f32(f(sc.road.target_lane_offset));
+  w.f32(f(sc.road.speed_limit));
+  put_boundary(w, sc.road.left);
+  put_boundary(w, sc.road.right);
+  const scene::Ego& e = sc.ego;
+  w.f32(rx(e.state.x));
+  w.f32(ry(e.state.y));
+  for (Scalar v : {e.state.heading, e.state.v, e.state.a, e.state.kappa, e.geometry.length, e.geometry.width,
+                   e.geometry.wheelbase, e.limits.a_min, e.limits.a_max, e.limits.lat_acc_max, e.limits.kappa_max}) {
+    w.f32(f(v));
+  }
+  w.u8(static_cast<std::uint8_t>(sc.static_obstacles.size()));
+  for (const scene::StaticObstacle& o : sc.static_obstacles) {  // <= kMaxStaticObstacles
+    w.i32(o.id);
+    w.f32(rx(o.x));
+    w.f32(ry(o.y));
+    w.f32(f(o.heading));
+    w.f32(f(o.length));
+    w.f32(f(o.width));
+  }
+  w.u8(static_cast<std::uint8_t>(sc.dynamic_obstacles.size()));
+  const std::size_t step = stride < 1 ? 1u : static_cast<std::size_t>(stride);
+  for (const scene::DynamicObstacle& o : sc.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+    w.i32(o.id);
+    w.f32(f(o.length));
+    w.f32(f(o.width));
+    const std::size_t n = o.trajectory.size();
+    const std::size_t sent = n == 0 ? 0 : (n - 1) / step + 1 + ((n - 1) % step != 0 ? 1 : 0);
+    w.u8(static_cast<std::uint8_t>(sent));
+    for (std::size_t i = 0; i < n; ++i) {  // <= kMaxPredictionSamples
+      if (i % step != 0 && i + 1 != n) {
+        continue;  // thinned; the last sample always goes
+      }
+      const scene::TimedPose& p = o.trajectory[i];
+      w.f32(static_cast<float>(static_cast<double>(p.t) - h.now));
+      w.f32(rx(p.x));
+      w.f32(ry(p.y));
+      w.f32(f(p.heading));
+      w.f32(f(p.v));
+    }
+  }
+  return w.ok() ? w.size() : 0;
+}
+
+bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Scene& sc) {
+  ByteReader r(in);
+  sc = scene::Scene{};
+  h.cycle = r.u32();
+  h.now = r.f64();
+  h.reset = (r.u8() & kResetFlag) != 0u;
+  const double ox = r.f64();
+  const double oy = r.f64();
+  const auto ax = [&](float x) { return static_cast<Scalar>(ox + static_cast<double>(x)); };
+  const auto ay = [&](float y) { return static_cast<Scalar>(oy + static_cast<double>(y)); };
+  const int n_ref = r.u8();
+  if (n_ref > config::kMaxReferencePoints) {
+    return false;
+  }
+  for (int i = 0; i < n_ref; ++i) {  // <= kMaxReferencePoints
+    const float x = r.f32();
+    const float y = r.f32();
+    static_cast<void>(sc.reference_line.push_back(geometry::Point2{ax(x), ay(y)}));
+  }
+  sc.road.lane_width = s(r.f32());
+  sc.road.target_lane_offset = s(r.f32());
+  sc.road.speed_limit = s(r.f32());
+  if (!get_boundary(r, sc.road.left) || !get_boundary(r, sc.road.right)) {
+    return false;
+  }
+  scene::Ego& e = sc.ego;
+  e.state.x = ax(r.f32());
+  e.state.y = ay(r.f32());
+  Scalar* fields[] = {&e.state.heading, &e.state.v, &e.state.a, &e.state.kappa, &e.geometry.length,
+                      &e.geometry.width, &e.geometry.wheelbase, &e.limits.a_min, &e.limits.a_max,
+                      &e.limits.lat_acc_max, &e.limits.kappa_max};
+  for (Scalar* p : fields) {  // 11 fields
+    *p = s(r.f32());
+  }
+  const int n_static = r.u8();
+  if (n_static > config::kMaxStaticObstacles) {
+    return false;
+  }
+  for (int i = 0; i < n_static; ++i) {  // <= kMaxStaticObstacles
+    scene::StaticObstacle o;
+    o.id = r.i32();
+    o.x = ax(r.f32());
+    o.y = ay(r.f32());
+    o.heading = s(r.f32());
+    o.length = s(r.f32());
+    o.width = s(r.f32());
+    static_cast<void>(sc.static_obstacles.push_back(o));
+  }
+  const int n_dyn = r.u8();
+  if (n_dyn > config::kMaxDynamicObstacles) {
+    return false;
+  }
+  for (int i = 0; i < n_dyn; ++i) {  // <= kMaxDynamicObstacles
+    scene::DynamicObstacle o;
+    o.id = r.i32();
+    o.length = s(r.f32());
+    o.width = s(r.f32());
+    const int n = r.u8();
+    if (n > config::kMaxPredictionSamples) {
+      return false;
+    }
+    for (int k = 0; k < n; ++k) {  // <= kMaxPredictionSamples
+      scene::TimedPose p;
+      p.t = static_cast<Scalar>(h.now + static_cast<double>(r.f32()));
+      p.x = ax(r.f32());
+      p.y = ay(r.f32());
+      p.heading = s(r.f32());
+      p.v = s(r.f32());
+      static_cast<void>(o.trajectory.push_back(p));
+    }
+    static_cast<void>(sc.dynamic_obstacles.push_back(o));
+  }
+  return r.done();
+}
+
+std::size_t encode_plan(std::uint32_t cycle, double ox, double oy, const planner::Plan& p,
+                        std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u32(cycle);
+  w.u8(static_cast<std::uint8_t>(p.status));
+  w.u8(static_cast<std::uint8_t>(p.fallback));
+  w.u8(static_cast<std::uint8_t>(p.invalid));
+  w.u8(static_cast<std::uint8_t>(p.iterations));
+  w.u16(static_cast<std::uint16_t>(p.qp_solves));
+  w.u32(static_cast<std::uint32_t>(p.qp_iterations));
+  for (std::uint64_t v : {p.timing.prepare, p.timing.decision, p.timing.path, p.timing.speed, p.timing.check,
+                          p.timing.total, p.timing.tick_hz}) {
+    w.u64(v);
+  }
+  w.u16(static_cast<std::uint16_t>(p.timing.decision_runs));
+  w.f64(ox);
+  w.f64(oy);
+  w.u8(static_cast<std::uint8_t>(p.trajectory.size()));
+  for (const planner::TrajectoryPoint& q : p.trajectory) {  // <= kTrajectorySamples
+    w.f32(f(q.t));
+    w.f32(static_cast<float>(static_cast<double>(q.x) - ox));
+    w.f32(static_cast<float>(static_cast<double>(q.y) - oy));
+    for (Scalar v : {q.heading, q.kappa, q.v, q.a, q.s, q.l}) {
+      w.f32(f(v));
+    }
+  }
+  w.u8(static_cast<std::uint8_t>(p.decisions.size()));
+  for (const planner::ObstacleDecision& d : p.decisions) {  // <= kMaxObstacles
+    w.i32(d.obstacle);
+    w.u8(static_cast<std::uint8_t>(d.lateral));
+    w.u8(static_cast<std::uint8_t>(d.longitudinal));
+    w.u8(d.dynamic ? 1u : 0u);
+  }
+  return w.ok() ? w.size() : 0;
+}
+
+bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle, planner::Plan& p) {
+  ByteReader r(in);
+  p = planner::Plan{};
+  cycle = r.u32();
+  p.status = static_cast<PlanStatus>(r.u8());
+  p.fallback = static_cast<planner::FallbackReason>(r.u8());
+  p.invalid = static_cast<scene::ValidationReason>(r.u8());
+  p.iterations = r.u8();
+  p.qp_solves = r.u16();
+  p.qp_iterations = static_cast<int>(r.u32());
+  std::uint64_t* timing[] = {&p.timing.prepare, &p.timing.decision, &p.timing.path, &p.timing.speed,
+                             &p.timing.check, &p.timing.total, &p.timing.tick_hz};
+  for (std::uint64_t* t : timing) {  // 7 fields
+    *t = r.u64();
+  }
+  p.timing.decision_runs = r.u16();
+  const double ox = r.f64();
+  const double oy = r.f64();
+  const int n = r.u8();
+  if (n > config::kTrajectorySamples) {
+    return false;
+  }
+  for (int i = 0; i < n; ++i) {  // <= kTrajectorySamples
+    planner::TrajectoryPoint q;
+    q.t = s(r.f32());
+    q.x = static_cast<Scalar>(ox + static_cast<double>(r.f32()));
+    q.y = static_cast<Scalar>(oy + static_cast<double>(r.f32()));
+    Scalar* fields[] = {&q.heading, &q.kappa, &q.v, &q.a, &q.s, &q.l};
+    for (Scalar* v : fields) {  // 6 fields
+      *v = s(r.f32());
+    }
+    static_cast<void>(p.trajectory.push_back(q));
+  }
+  const int nd = r.u8();
+  if (nd > config::kMaxObstacles) {
+    return false;
+  }
+  for (int i = 0; i < nd; ++i) {  // <= kMaxObstacles
+    planner::ObstacleDecision d;
+    d.obstacle = r.i32();
+    d.lateral = static_cast<planner::LateralSide>(r.u8());
+    d.longitudinal = static_cast<speed::Longitudinal>(r.u8());
+    d.dynamic = r.u8() != 0u;
+    static_cast<void>(p.decisions.push_back(d));
+  }
+  return r.done();
+}
+
+}  // namespace itp::link

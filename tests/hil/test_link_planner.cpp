@@ -1,0 +1,88 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "itp/link/planner_messages.hpp"
+#include "itp/planner/planner.hpp"
+#include "sim/link_endpoint.hpp"
+#include "sim/scene_convert.hpp"
+#include "sim/scene_generator.hpp"
+
+using namespace hil::sim;
+
+TEST_CASE("Scene and Plan messages round-trip within float precision") {
+  const World w = generate_scene(7, 3);
+  auto scene = std::make_unique<itp::scene::Scene>();
+  REQUIRE(make_planner_scene(w, ego_at_start(w), 1.0, Prediction::kGroundTruth, *scene).ok);
+  std::vector<std::uint8_t> body(itp::config::kMaxPayloadBytes);
+  itp::link::SceneHeader h{42, 1.0, true};
+  const std::size_t n = itp::link::encode_scene(h, *scene, 1, body);
+  REQUIRE(n > 0);
+  auto back = std::make_unique<itp::scene::Scene>();
+  itp::link::SceneHeader hb;
+  REQUIRE(itp::link::decode_scene(std::span<const std::uint8_t>(body.data(), n), hb, *back));
+  CHECK(hb.cycle == 42);
+  CHECK(hb.reset);
+  CHECK(hb.now == 1.0);
+  REQUIRE(back->reference_line.size() == scene->reference_line.size());
+  for (std::size_t i = 0; i < scene->reference_line.size(); ++i) {
+    CHECK(back->reference_line[i].x == doctest::Approx(scene->reference_line[i].x).epsilon(1e-6));
+  }
+  REQUIRE(back->dynamic_obstacles.size() == scene->dynamic_obstacles.size());
+  for (std::size_t i = 0; i < scene->dynamic_obstacles.size(); ++i) {
+    const auto& a = scene->dynamic_obstacles[i].trajectory;
+    const auto& b = back->dynamic_obstacles[i].trajectory;
+    REQUIRE(a.size() == b.size());
+    CHECK(b.back().t == doctest::Approx(a.back().t).epsilon(1e-6));
+    CHECK(b.back().x == doctest::Approx(a.back().x).epsilon(1e-6));
+  }
+  CHECK(back->ego.state.v == doctest::Approx(scene->ego.state.v));
+  // Thinned predictions keep the first and last samples.
+  const std::size_t m = itp::link::encode_scene(h, *scene, 5, body);
+  REQUIRE(itp::link::decode_scene(std::span<const std::uint8_t>(body.data(), m), hb, *back));
+  if (!scene->dynamic_obstacles.empty()) {
+    CHECK(back->dynamic_obstacles[0].trajectory.back().t ==
+          doctest::Approx(scene->dynamic_obstacles[0].trajectory.back().t).epsilon(1e-6));
+    CHECK(back->dynamic_obstacles[0].trajectory.size() < scene->dynamic_obstacles[0].trajectory.size());
+  }
+  // Malformed bodies are rejected, never crash.
+  CHECK_FALSE(itp::link::decode_scene(std::span<const std::uint8_t>(body.data(), m / 2), hb, *back));
+}
+
+TEST_CASE("the host-port firmware plans generated scenes like the in-process planner") {
+  std::string error;
+  auto endpoint = make_link_endpoint("host", "", &error);
+  REQUIRE_MESSAGE(endpoint != nullptr, error);
+  auto planner = std::make_unique<itp::planner::Planner>();
+  auto local = std::make_unique<itp::planner::Plan>();
+  auto remote = std::make_unique<itp::planner::Plan>();
+  auto scene = std::make_unique<itp::scene::Scene>();
+  int compared = 0;
+  for (int i = 0; i < 6; ++i) {
+    const World w = generate_scene(11, i);
+    REQUIRE(make_planner_scene(w, ego_at_start(w), 0.0, Prediction::kConstantVelocity, *scene).ok);
+    // The in-process planner gets the scene as the firmware sees it (float on the wire).
+    std::vector<std::uint8_t> body(itp::config::kMaxPayloadBytes);
+    const std::size_t n = itp::link::encode_scene({1, 0.0, true}, *scene, 1, body);
+    itp::link::SceneHeader h;
+    auto wire = std::make_unique<itp::scene::Scene>();
+    REQUIRE(itp::link::decode_scene(std::span<const std::uint8_t>(body.data(), n), h, *wire));
+    planner->reset();
+    planner->plan({wire.get(), 0.0}, *local);
+    endpoint->reset();
+    const EndpointResult r = endpoint->plan(*scene, 0.0, *remote);
+    REQUIRE_MESSAGE(r.ok, r.error);
+    CHECK(r.cycle_time_us > 0);
+    CHECK(remote->status == local->status);
+    CHECK(remote->iterations == local->iterations);
+    REQUIRE(remote->trajectory.size() == local->trajectory.size());
+    for (std::size_t k = 0; k < local->trajectory.size(); ++k) {
+      CHECK(remote->trajectory[k].x == doctest::Approx(local->trajectory[k].x).epsilon(1e-6).scale(1.0));
+      CHECK(remote->trajectory[k].v == doctest::Approx(local->trajectory[k].v).epsilon(1e-5).scale(1.0));
+    }
+    ++compared;
+  }
+  CHECK(compared == 6);
+}
