@@ -193,3 +193,42 @@ TEST_CASE("identical input gives bit-identical output") {
   CHECK(std::memcmp(a.plan->trajectory.data(), b.plan->trajectory.data(),
                     sizeof(TrajectoryPoint) * a.plan->trajectory.size()) == 0);
 }
+
+TEST_CASE("cut-in: the ego brakes within its limits and keeps clear of the merging car") {
+  Scene s = road_scene(1, 0);
+  s.ego.state.v = 12;
+  // A car 18 m ahead in the left lane at 9 m/s merges into the ego's lane over 2.5 s.
+  DynamicObstacle o;
+  o.id = 21;
+  o.length = 4.5;
+  o.width = 1.8;
+  for (int k = 0; k <= 75; ++k) {
+    const double t = 0.1 * k;
+    const double u = std::min(t / 2.5, 1.0);
+    TimedPose p;
+    p.t = t;
+    p.x = 22 + 9 * t;
+    p.y = 3.5 * (1 - u * u * (3 - 2 * u));  // smooth lateral move
+    p.heading = t < 2.5 ? -std::atan2(3.5 * 6 * u * (1 - u) / 2.5, 9.0) : 0.0;
+    p.v = 9;
+    (void)o.trajectory.push_back(p);
+  }
+  (void)s.dynamic_obstacles.push_back(o);
+  Run r;
+  r.go(s);
+  check_limits(s, *r.plan);
+  CHECK(r.status != itp::PlanStatus::kInvalidInput);
+  CHECK(min_clearance(s, *r.plan) >= 0.5);
+  CHECK(r.plan->trajectory.back().v < 11.0);  // slowed down behind it
+}
+
+TEST_CASE("oncoming car beside a parked car: the ego waits or passes, never meets it") {
+  Scene s = road_scene(1, 0, 0, 250);
+  add_static(s, 1, 45, 0.0);                 // parked in the ego's lane
+  add_mover(s, 2, 110, 3.5, M_PI, 10);       // oncoming in the other lane
+  Run r;
+  r.go(s);
+  check_limits(s, *r.plan);
+  CHECK(r.status != itp::PlanStatus::kInvalidInput);
+  CHECK(min_clearance(s, *r.plan) >= 0.3);
+}
