@@ -137,3 +137,20 @@ TEST_CASE("the integral row integrates the value over a sub-interval") {
     CHECK(got == doctest::Approx(anti(b) - anti(a)).epsilon(1e-10).scale(1.0));
   }
 }
+
+TEST_CASE("Horner evaluation of the block's coefficients equals the evaluation rows") {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<Scalar> u(-1, 1);
+  for (int trial = 0; trial < 50; ++trial) {
+    Vector6 x;
+    for (int i = 0; i < 6; ++i) x(i) = u(rng);
+    const Scalar h = 0.5 + 5 * (u(rng) + 1);
+    const Vector6 c = coefficient_map(h) * x;
+    for (int k = 0; k <= 3; ++k) {
+      for (Scalar frac : {0.0, 0.3, 0.7, 1.0}) {
+        const Scalar want = evaluate_row(h, frac * h, k) * x;
+        CHECK(eval_monomial(c.data(), frac * h, k) == doctest::Approx(want).epsilon(1e-10).scale(1.0));
+      }
+    }
+  }
+}

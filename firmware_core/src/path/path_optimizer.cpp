@@ -29,11 +29,7 @@ Scalar PathResult::eval(Scalar s, int derivative) const {
   int b = static_cast<int>(u);
   b = b >= kB ? kB - 1 : b;
   const Scalar tau = (u - static_cast<Scalar>(b)) * h;
-  spline::Vector6 x;
-  for (int k = 0; k < 6; ++k) {  // the block's two knots
-    x(k) = knots[static_cast<std::size_t>(3 * b + k)];
-  }
-  return spline::evaluate_row(h, tau, derivative) * x;
+  return spline::eval_monomial(&coefficients[static_cast<std::size_t>(6 * b)], tau, derivative);
 }
 
 void PathOptimizer::build(const decision::ConvexSpace& space, const decision::Decision& decision,
@@ -153,6 +149,13 @@ void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::De
   if (qp::is_usable(st)) {
     for (int i = 0; i < config::kPathVariables; ++i) {  // 63
       out.knots[static_cast<std::size_t>(i)] = result_.x[i];
+    }
+    const spline::Matrix6 m = spline::coefficient_map(h);
+    for (int b = 0; b < kB; ++b) {  // kPathBlocks
+      const spline::Vector6 c = m * Eigen::Map<const spline::Vector6>(&out.knots[static_cast<std::size_t>(3 * b)]);
+      for (int k = 0; k < 6; ++k) {  // 6 coefficients
+        out.coefficients[static_cast<std::size_t>(6 * b + k)] = c(k);
+      }
     }
   }
 }

@@ -31,11 +31,7 @@ Scalar SpeedResult::eval(Scalar t, int derivative) const {
   int b = static_cast<int>(u);
   b = b >= kB ? kB - 1 : b;
   const Scalar tau = (u - static_cast<Scalar>(b)) * h;
-  spline::Vector6 x;
-  for (int k = 0; k < 6; ++k) {  // the block's two knots
-    x(k) = knots[static_cast<std::size_t>(3 * b + k)];
-  }
-  return spline::evaluate_row(h, tau, derivative) * x;
+  return spline::eval_monomial(&coefficients[static_cast<std::size_t>(6 * b)], tau, derivative);
 }
 
 void SpeedOptimizer::build(const SpeedInput& in, const SpeedBounds& bd, const SpeedWeights& w,
@@ -131,6 +127,13 @@ void SpeedOptimizer::solve(const SpeedInput& in, const SpeedBounds& bounds, cons
   if (qp::is_usable(st)) {
     for (int i = 0; i < config::kSpeedVariables; ++i) {  // 45
       out.knots[static_cast<std::size_t>(i)] = result_.x[i];
+    }
+    const spline::Matrix6 m = spline::coefficient_map(h);
+    for (int b = 0; b < kB; ++b) {  // kSpeedBlocks
+      const spline::Vector6 c = m * Eigen::Map<const spline::Vector6>(&out.knots[static_cast<std::size_t>(3 * b)]);
+      for (int k = 0; k < 6; ++k) {  // 6 coefficients
+        out.coefficients[static_cast<std::size_t>(6 * b + k)] = c(k);
+      }
     }
   }
 }

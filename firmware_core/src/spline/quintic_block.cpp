@@ -70,6 +70,14 @@ Row6 linear_moment(Scalar h, Scalar r0, Scalar r1, int derivative) {
   return e * coefficient_map(h);
 }
 
+Scalar eval_monomial(const Scalar* c, Scalar tau, int derivative) {
+  Scalar v = 0;
+  for (int i = kBlockStates - 1; i >= derivative; --i) {  // 6 coefficients
+    v = v * tau + falling(i, derivative) * c[i];
+  }
+  return v;
+}
+
 Row6 integral_row(Scalar h, Scalar a, Scalar b) {
   Row6 e;
   for (int i = 0; i < kBlockStates; ++i) {  // 6

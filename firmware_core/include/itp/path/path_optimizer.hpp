@@ -59,6 +59,7 @@ struct PathResult {
   Scalar s0 = 0;  // [m]
   Scalar h = 0;   // [m] block length
   std::array<Scalar, 3 * kPathKnots> knots{};  // (l, l', l'') per knot
+  std::array<Scalar, 6 * config::kPathBlocks> coefficients{};  // monomial coefficients per block (from knots)
 
   // d^k l / ds^k at s (k = 0..3), clamped to the horizon.
   Scalar eval(Scalar s, int derivative) const;

@@ -56,6 +56,7 @@ struct SpeedResult {
   int iterations = 0;
   Scalar h = 0;  // [s] block length
   std::array<Scalar, 3 * kSpeedKnots> knots{};  // (s, ṡ, s̈) per knot
+  std::array<Scalar, 6 * config::kSpeedBlocks> coefficients{};  // monomial coefficients per block
 
   // d^k s / dt^k at t (k = 0..3), clamped to the horizon.
   Scalar eval(Scalar t, int derivative) const;

@@ -40,4 +40,8 @@ Row6 linear_moment(Scalar h, Scalar r0, Scalar r1, int derivative = 0);
 // of a squared deviation from a reference that is constant on [a, b].
 Row6 integral_row(Scalar h, Scalar a, Scalar b);
 
+// d^k/dτ^k of Σ c_i τ^i at τ (k = 0..3), by Horner's rule: the cheap way to
+// evaluate a solved spline once its blocks' coefficients are known.
+Scalar eval_monomial(const Scalar* c, Scalar tau, int derivative);
+
 }  // namespace itp::spline
