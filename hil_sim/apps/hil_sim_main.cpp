@@ -1,7 +1,9 @@
-// hil_sim: the host simulator. It talks to a firmware over the framed serial
-// link. For now it has one job, `ping`: boot the firmware (host process or the
-// Cortex-M7 ELF under QEMU), exchange Ping/Pong, optionally inject garbage and
-// corrupt frames first, and report what the link counted.
+// hil_sim: the host simulator. `run` drives the planner in closed loop over
+// generated or given scenes (inproc, or a firmware over the framed serial
+// link); `ping` boots the firmware (host process or the Cortex-M7 ELF under
+// QEMU), exchanges Ping/Pong, optionally injects garbage and corrupt frames
+// first, and reports what the link counted; `qp-check` compares QP solutions
+// on the host and the firmware; `gen` writes generated scenes.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <fmt/ranges.h>
@@ -13,6 +15,7 @@
 #include <random>
 
 #include "formats/qp_text.hpp"
+#include "sim/closed_loop.hpp"
 #include "sim/scene_generator.hpp"
 #include "sim/world.hpp"
 #include "itp/link/messages.hpp"
@@ -254,6 +257,28 @@ int main(int argc, char** argv) {
   gen_cmd->add_option("--seed", gen.seed, "Generator seed (same seed, same scenes)")->capture_default_str();
   gen_cmd->add_option("--out", gen.out, "Output directory")->capture_default_str();
 
+  hil::sim::RunCommand run;
+  auto* run_cmd = app.add_subcommand("run", "Closed-loop simulation: drive the planner over scenes, report metrics");
+  auto* scene_opt = run_cmd->add_option("--scene", run.scene_files, "scene/1 file(s) to run (instead of a suite)")
+                        ->check(CLI::ExistingFile);
+  run_cmd->add_option("--suite", run.suite, "Generated suite")
+      ->check(CLI::IsMember({"default"}))
+      ->excludes(scene_opt)
+      ->capture_default_str();
+  run_cmd->add_option("--count", run.count, "Number of suite scenes")->check(CLI::PositiveNumber)->capture_default_str();
+  run_cmd->add_option("--seed", run.seed, "Suite seed (same seed, same scenes)")->capture_default_str();
+  run_cmd->add_option("--target", run.target, "Planner to drive")
+      ->check(CLI::IsMember({"inproc", "host", "qemu"}))
+      ->capture_default_str();
+  run_cmd->add_option("--firmware", run.firmware, "host/qemu: firmware executable or ELF (default: this build's)");
+  run_cmd->add_option("--prediction", run.prediction, "Obstacle predictions sent to the planner: constant velocity or ground truth")
+      ->check(CLI::IsMember({"cv", "truth"}))
+      ->capture_default_str();
+  run_cmd->add_option("--report", run.report, "Write report/1 JSON here");
+  run_cmd->add_option("--plots", run.plots, "Write one SVG per scene and index.html into this directory");
+  run_cmd->add_option("--duration", run.duration, "Run length per scene [s] (default: the scene's, else 12)")
+      ->check(CLI::PositiveNumber);
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*ping_cmd) {
@@ -264,6 +289,9 @@ int main(int argc, char** argv) {
     }
     if (*gen_cmd) {
       return run_gen(gen);
+    }
+    if (*run_cmd) {
+      return hil::sim::run_command(run);
     }
   } catch (const std::exception& e) {
     fmt::print(stderr, "hil_sim: {}\n", e.what());

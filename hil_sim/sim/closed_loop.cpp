@@ -1,0 +1,554 @@
+#include "sim/closed_loop.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include <fmt/core.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "itp/planner/planner.hpp"
+#include "sim/box_geometry.hpp"
+#include "sim/inproc_endpoint.hpp"
+#include "sim/link_endpoint.hpp"
+#include "sim/plan_plots.hpp"
+#include "sim/scene_generator.hpp"
+
+namespace hil::sim {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kDefaultDuration = 12.0;  // [s]
+
+PlanStatus to_sim_status(itp::PlanStatus s) {
+  switch (s) {
+    case itp::PlanStatus::kOk: return PlanStatus::kOk;
+    case itp::PlanStatus::kFallback: return PlanStatus::kFallback;
+    case itp::PlanStatus::kInvalidInput: return PlanStatus::kInvalidInput;
+  }
+  return PlanStatus::kInvalidInput;
+}
+
+std::vector<TrajectoryPoint> to_track(const itp::planner::Plan& plan) {
+  std::vector<TrajectoryPoint> out;
+  out.reserve(plan.trajectory.size());
+  for (const auto& p : plan.trajectory) {
+    out.push_back(TrajectoryPoint{p.t, p.x, p.y, p.heading, p.kappa, p.v, p.a});
+  }
+  return out;
+}
+
+// The true footprints of every obstacle present at t.
+std::vector<OrientedBox> obstacle_boxes(const World& w, double t) {
+  std::vector<OrientedBox> boxes;
+  boxes.reserve(w.static_obstacles.size() + w.dynamic_obstacles.size());
+  for (const auto& o : w.static_obstacles) boxes.push_back(obstacle_box(o));
+  for (const auto& d : w.dynamic_obstacles) {
+    if (const auto p = pose_at(d, t)) boxes.push_back(obstacle_box(d, *p));
+  }
+  return boxes;
+}
+
+// The simulator's view of the ego at one step (everything but the plan status).
+StepSample observe(const World& w, const VehicleState& st, const VehicleParams& vp, double t) {
+  StepSample x;
+  x.t = t;
+  const Pose pose{st.x, st.y, st.heading};
+  x.ego = ego_box(pose, vp.length, vp.width, vp.wheelbase);
+  x.obstacles = obstacle_boxes(w, t);
+  const PolylineProjection pr = project_to_polyline(w.reference_line, st.x, st.y);
+  x.progress_s = pr.s;
+  x.lateral_offset = pr.l;
+  x.heading_error = wrap_angle(st.heading - pr.heading);
+  x.road_margin = road_margin(w.reference_line, w.road, x.ego);
+  x.a_lon = st.a;
+  x.a_lat = st.v * st.v * st.kappa(vp.wheelbase);
+  return x;
+}
+
+struct Contact {
+  std::optional<double> clearance;
+  bool collision = false;
+};
+
+Contact contact(const StepSample& x) {
+  Contact c;
+  for (const auto& o : x.obstacles) {
+    const double d = box_distance(x.ego, o);
+    c.collision = c.collision || d <= 0.0;
+    c.clearance = c.clearance ? std::min(*c.clearance, d) : d;
+  }
+  return c;
+}
+
+// Picks the cycles worth a look while the scene runs (see CycleSnapshot): the
+// first problem (fallback / invalid input / link error), and the cycle before
+// the first collision or, without one, the cycle before the smallest clearance.
+class SnapshotPicker {
+ public:
+  explicit SnapshotPicker(bool enabled) : enabled_(enabled) {}
+
+  void remember(int cycle, double now, const itp::scene::Scene& scene) {
+    if (!enabled_) return;
+    history_.push_back({cycle, now, std::make_shared<const itp::scene::Scene>(scene)});
+    while (history_.size() > 3) history_.pop_front();
+  }
+  void first_problem(int cycle, const std::string& why) {
+    if (enabled_ && !problem_) problem_ = make(cycle, why);
+  }
+  // priority 2: collision (the first wins), 1: clearance (the smaller wins).
+  void contact(int cycle, int priority, double value, const std::string& why) {
+    if (!enabled_ || cycle < 0) return;
+    if (priority < priority_ || (priority == priority_ && (priority == 2 || value >= value_))) return;
+    if (auto shot = make(cycle, why)) {
+      contact_ = std::move(shot);
+      priority_ = priority;
+      value_ = value;
+    }
+  }
+  std::vector<CycleSnapshot> take() {
+    std::vector<CycleSnapshot> out;
+    if (problem_) out.push_back(std::move(*problem_));
+    if (contact_ && (out.empty() || out.front().cycle != contact_->cycle)) out.push_back(std::move(*contact_));
+    std::sort(out.begin(), out.end(), [](const CycleSnapshot& a, const CycleSnapshot& b) { return a.cycle < b.cycle; });
+    return out;
+  }
+
+ private:
+  struct Entry {
+    int cycle;
+    double now;
+    std::shared_ptr<const itp::scene::Scene> scene;
+  };
+  std::optional<CycleSnapshot> make(int cycle, const std::string& why) const {
+    CycleSnapshot shot;
+    shot.cycle = cycle;
+    shot.why = why;
+    for (const Entry& e : history_) {
+      if (e.cycle == cycle - 1 || e.cycle == cycle) shot.scenes.emplace_back(e.now, e.scene);
+      if (e.cycle == cycle) shot.now = e.now;
+    }
+    if (shot.scenes.empty()) return std::nullopt;
+    return shot;
+  }
+  bool enabled_;
+  std::deque<Entry> history_;
+  std::optional<CycleSnapshot> problem_;
+  std::optional<CycleSnapshot> contact_;
+  int priority_ = 0;
+  double value_ = std::numeric_limits<double>::infinity();
+};
+
+}  // namespace
+
+SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const RunOptions& opt) {
+  SceneRunResult result;
+  SceneMetrics metrics(world.name, world.tags);
+  VehicleParams vp;
+  vp.wheelbase = world.ego.wheelbase;
+  vp.length = world.ego.length;
+  vp.width = world.ego.width;
+  TrackingController controller(vp, opt.gains);
+  VehicleState state = vehicle_from_ego(world.ego, vp);
+  SnapshotPicker picker(opt.keep_snapshot);
+
+  const double duration = opt.duration > 0 ? opt.duration : world.duration.value_or(kDefaultDuration);
+  const double dt = opt.cycle > 0 ? opt.cycle : 0.1;
+  const int n_cycles = std::max(0, static_cast<int>(std::lround(duration / dt)));
+  auto scene = std::make_unique<itp::scene::Scene>();
+  auto plan = std::make_unique<itp::planner::Plan>();
+  result.cycles.reserve(static_cast<std::size_t>(n_cycles));
+  result.trace.reserve(static_cast<std::size_t>(n_cycles) + 1);
+
+  // Contact at step k is the outcome of the plan of cycle k - 1.
+  bool collided = false;
+  auto judge_contact = [&](int step, const Contact& c) {
+    if (c.collision && !collided) {
+      collided = true;
+      picker.contact(step - 1, 2, 0.0, fmt::format("first collision at t = {:.1f} s", step * dt));
+    } else if (c.clearance) {
+      picker.contact(step - 1, 1, *c.clearance, fmt::format("min clearance {:.2f} m at t = {:.1f} s", *c.clearance, step * dt));
+    }
+  };
+
+  try {
+    endpoint.reset();
+    for (int k = 0; k <= n_cycles; ++k) {
+      const double t = k * dt;
+      StepSample sample = observe(world, state, vp, t);
+      const Contact c = contact(sample);
+      judge_contact(k, c);
+      result.trace.push_back(svg::EgoTraceSample{t, Pose{state.x, state.y, state.heading}, state.v});
+      if (k == n_cycles) {  // the final state: judged, no more planning
+        metrics.add_step(sample);
+        break;
+      }
+
+      CycleRecord rec;
+      rec.t = t;
+      rec.v = state.v;
+      rec.a_lon = sample.a_lon;
+      rec.a_lat = sample.a_lat;
+      rec.clearance = c.clearance;
+      rec.collision = c.collision;
+
+      const EgoNow ego{state.x, state.y, state.heading, state.v, state.a, state.kappa(vp.wheelbase)};
+      const ConvertResult conv = make_planner_scene(world, ego, t, opt.prediction, *scene);
+      if (!conv.ok) {
+        result.error = fmt::format("t = {:.1f} s: {}", t, conv.error);
+        metrics.add_step(sample);
+        metrics.set_crashed(result.error);
+        break;
+      }
+      picker.remember(k, t, *scene);
+      const EndpointResult er = endpoint.plan(*scene, t, *plan);
+      std::string problem;
+      if (!er.ok) {
+        metrics.add_link_error();
+        controller.emergency_brake(opt.emergency_decel);
+        rec.reason = er.error.empty() ? "link error" : er.error;
+        problem = "link error: " + rec.reason;
+      } else {
+        rec.status = to_sim_status(plan->status);
+        sample.status = rec.status;
+        if (rec.status == PlanStatus::kFallback) {
+          rec.reason = itp::planner::to_string(plan->fallback);
+          problem = "fallback: " + rec.reason;
+        } else if (rec.status == PlanStatus::kInvalidInput) {
+          rec.reason = itp::scene::to_string(plan->invalid);
+          problem = "invalid_input: " + rec.reason;
+        }
+        sample.reason = rec.reason;
+        rec.iterations = plan->iterations;
+        if (rec.status != PlanStatus::kInvalidInput) sample.iterations = plan->iterations;
+        if (er.cycle_time_us >= 0) sample.cycle_time_us = rec.cycle_time_us = er.cycle_time_us;
+        if (er.instructions >= 0) sample.instructions = rec.instructions = er.instructions;
+        if (rec.status == PlanStatus::kInvalidInput || plan->trajectory.empty()) {
+          controller.emergency_brake(opt.emergency_decel);
+        } else {
+          std::vector<TrajectoryPoint> track = to_track(*plan);
+          rec.v_plan = sample_plan(track, 1.0).v;
+          metrics.add_plan(t, track);
+          controller.set_plan(std::move(track), t);
+        }
+      }
+      if (!problem.empty()) picker.first_problem(k, fmt::format("first {} at t = {:.1f} s", problem, t));
+      metrics.add_step(sample);
+      result.cycles.push_back(std::move(rec));
+      controller.advance(state, t, dt);
+    }
+  } catch (const std::exception& e) {
+    result.error = fmt::format("endpoint '{}': {}", endpoint.name(), e.what());
+    metrics.set_crashed(result.error);
+  }
+  result.summary = metrics.summary();
+  result.snapshots = picker.take();
+  return result;
+}
+
+// ---------------------------------------------------------------------------
+// Plots
+
+std::string scene_run_svg(const World& world, const SceneRunResult& r) {
+  std::vector<std::string> parts;
+  const SceneSummary& s = r.summary;
+  std::string title = fmt::format("{}: collision {}, road departure {}, fallbacks {}, min clearance {}", world.name,
+                                  s.collided() ? "YES" : "no", s.departed() ? "YES" : "no", s.fallbacks,
+                                  s.min_clearance_m ? fmt::format("{:.2f} m", *s.min_clearance_m) : std::string("-"));
+  std::string tags;
+  for (const auto& tag : world.tags) tags += " " + tag;
+  if (title.size() + tags.size() < 150) title += " —" + tags;
+  svg::XyPlotOptions xy;
+  xy.title = title;
+  xy.t_end = r.trace.empty() ? -1.0 : r.trace.back().t;
+  parts.push_back(plot_scene_xy(world, r.trace, xy));
+
+  // Speed over time, with the limit and the plan's speed 1 s ahead; statuses as markers below.
+  std::vector<svg::Series> speed(3);
+  speed[0].name = "ego v";
+  speed[1].name = "plan v(t + 1 s)";
+  speed[1].dashed = true;
+  speed[2].name = "speed limit";
+  speed[2].colour = "#888888";
+  speed[2].dashed = true;
+  for (const auto& e : r.trace) speed[0].points.push_back({e.t, e.v});
+  for (const auto& c : r.cycles) {
+    if (c.status == PlanStatus::kOk || c.status == PlanStatus::kFallback) speed[1].points.push_back({c.t, c.v_plan});
+  }
+  const double t_end = r.trace.empty() ? 0.0 : r.trace.back().t;
+  speed[2].points = {{0.0, world.road.speed_limit}, {t_end, world.road.speed_limit}};
+  parts.push_back(plot_line_chart("speed", "t [s]", "v [m/s]", speed));
+
+  std::vector<svg::Series> other(4);
+  other[0].name = "min clearance [m] (clipped at 10)";
+  other[1].name = "a_lon [m/s²]";
+  other[2].name = "a_lat [m/s²]";
+  other[3].name = "plan status (0 ok, 1 fallback, 2 invalid input, 3 link error)";
+  other[3].colour = "#000000";
+  other[3].dashed = true;
+  for (const auto& c : r.cycles) {
+    if (c.clearance) other[0].points.push_back({c.t, std::min(10.0, *c.clearance)});
+    other[1].points.push_back({c.t, c.a_lon});
+    other[2].points.push_back({c.t, c.a_lat});
+    const double code = c.status == PlanStatus::kOk         ? 0.0
+                        : c.status == PlanStatus::kFallback ? 1.0
+                        : c.status == PlanStatus::kInvalidInput ? 2.0
+                                                                : 3.0;
+    other[3].points.push_back({c.t, code});
+    other[3].points.push_back({c.t + 0.1, code});
+  }
+  parts.push_back(plot_line_chart("clearance, accelerations, plan status", "t [s]", "", other));
+
+  for (const CycleSnapshot& shot : r.snapshots) {
+    if (shot.scenes.empty()) continue;
+    // Re-plan the chosen cycle in-process (after its predecessor, for stitching).
+    auto planner = std::make_unique<itp::planner::Planner>();
+    auto plan = std::make_unique<itp::planner::Plan>();
+    for (const auto& [now, sc] : shot.scenes) planner->plan(itp::planner::PlanRequest{sc.get(), now}, *plan);
+    const auto& [now, sc] = shot.scenes.back();
+    const std::string head = fmt::format("cycle {} (t = {:.1f} s; {}), re-planned in-process: {}{}", shot.cycle, now,
+                                         shot.why, itp::to_string(plan->status),
+                                         plan->status == itp::PlanStatus::kFallback
+                                             ? std::string(" ") + itp::planner::to_string(plan->fallback)
+                                             : std::string());
+    parts.push_back(plot_sl(*planner, *sc, "SL — " + head));
+    parts.push_back(plot_xy(*planner, *sc, *plan, now, "XY — " + head));
+    parts.push_back(plot_st(*planner, *plan, "ST — " + head));
+  }
+  return stack_svgs(parts);
+}
+
+// ---------------------------------------------------------------------------
+// Summary table
+
+namespace {
+
+std::string num(const json& j, const char* spec = "{:.2f}") {
+  if (j.is_null()) return "-";
+  if (j.is_number_integer()) return fmt::format("{}", j.get<long long>());
+  return fmt::format(fmt::runtime(spec), j.get<double>());
+}
+
+}  // namespace
+
+std::string summary_table(const json& rep) {
+  std::vector<std::pair<std::string, std::string>> rows;
+  auto row = [&](std::string k, std::string v) { rows.emplace_back(std::move(k), std::move(v)); };
+  row("target", rep.value("target", std::string("?")));
+  row("scenes", num(rep["scenes"]));
+  row("cycles", num(rep["cycles"]));
+  row("collisions (scenes)", fmt::format("{} ({} steps)", num(rep["collisions"]), num(rep["collision_steps"])));
+  row("road departures (scenes)", fmt::format("{} ({} steps)", num(rep["road_departures"]), num(rep["road_departure_steps"])));
+  std::string reasons;
+  for (const auto& [k, v] : rep["fallback_reasons"].items()) {
+    reasons += fmt::format("{}{} {}", reasons.empty() ? "" : ", ", k, v.get<int>());
+  }
+  row("fallbacks", fmt::format("{}{}", num(rep["fallbacks"]), reasons.empty() ? "" : " (" + reasons + ")"));
+  std::map<std::string, int> invalid;
+  for (const auto& sc : rep["per_scene"]) {
+    if (sc.contains("invalid_input_reasons")) {
+      for (const auto& [k, v] : sc["invalid_input_reasons"].items()) invalid[k] += v.get<int>();
+    }
+  }
+  std::string inv;
+  for (const auto& [k, v] : invalid) inv += fmt::format("{}{} {}", inv.empty() ? "" : ", ", k, v);
+  row("invalid inputs", fmt::format("{}{}", num(rep["invalid_inputs"]), inv.empty() ? "" : " (" + inv + ")"));
+  row("link errors", num(rep["link_errors"]));
+  row("crashes", num(rep["crashes"]));
+  row("min clearance [m]", num(rep["min_clearance_m"], "{:.3f}"));
+  row("max |a_lon| [m/s²]", num(rep["max_abs_lon_acc"]));
+  row("max |a_lat| [m/s²]", num(rep["max_abs_lat_acc"]));
+  row("max |jerk| [m/s³]", num(rep["max_abs_jerk"], "{:.1f}"));
+  row("max plan deviation [m]", num(rep["max_plan_deviation_m"], "{:.3f}"));
+  row("iterations mean / max", fmt::format("{} / {}", num(rep["iterations"]["mean"]), num(rep["iterations"]["max"])));
+  const json& ct = rep["cycle_time_us"];
+  if (!ct["median"].is_null()) {
+    row("cycle time [µs] median / p99 / max",
+        fmt::format("{} / {} / {}", num(ct["median"], "{:.0f}"), num(ct["p99"], "{:.0f}"), num(ct["max"], "{:.0f}")));
+  }
+  const json& in = rep["instructions_per_cycle"];
+  if (!in["median"].is_null()) {
+    row("instructions / cycle median / max", fmt::format("{} / {}", num(in["median"], "{:.3g}"), num(in["max"], "{:.3g}")));
+  }
+  const double progress = rep.value("progress_m_total", 0.0);
+  const int scenes = rep.value("scenes", 0);
+  row("progress [m] total / mean per scene",
+      fmt::format("{:.0f} / {:.1f}", progress, scenes > 0 ? progress / scenes : 0.0));
+
+  std::size_t w = 0;
+  for (const auto& [k, v] : rows) w = std::max(w, k.size());
+  std::string out = fmt::format("{:-<{}}\n", "", w + 40);
+  for (const auto& [k, v] : rows) out += fmt::format("{:<{}}  {}\n", k, w, v);
+  out += fmt::format("{:-<{}}\n", "", w + 40);
+  return out;
+}
+
+// ---------------------------------------------------------------------------
+// hil_sim run
+
+namespace {
+
+class Progress {
+ public:
+  explicit Progress(int total) : total_(total), tty_(isatty(fileno(stderr)) != 0) {}
+  void update(int done, const std::string& name, int collisions, int fallbacks) {
+    if (tty_) {
+      constexpr int kWidth = 30;
+      const int filled = total_ > 0 ? done * kWidth / total_ : kWidth;
+      fmt::print(stderr, "\r[{:#<{}}{:.<{}}] {}/{} {} collisions {} fallbacks {}\x1b[K", "", filled, "", kWidth - filled,
+                 done, total_, name, collisions, fallbacks);
+      if (done == total_) fmt::print(stderr, "\n");
+      std::fflush(stderr);
+    } else {
+      const int decile = total_ > 0 ? done * 10 / total_ : 10;
+      if (decile > last_decile_) {
+        last_decile_ = decile;
+        fmt::print(stderr, "{:3}% {}/{} {} collisions {} fallbacks {}\n", decile * 10, done, total_, name, collisions,
+                   fallbacks);
+      }
+    }
+  }
+
+ private:
+  int total_;
+  bool tty_;
+  int last_decile_ = 0;
+};
+
+std::string fmt_opt(const std::optional<double>& x, const char* spec) {
+  return x ? fmt::format(fmt::runtime(spec), *x) : std::string("-");
+}
+
+}  // namespace
+
+int run_command(const RunCommand& cmd) {
+  // Scenes.
+  std::vector<World> worlds;
+  if (!cmd.scene_files.empty()) {
+    for (const auto& path : cmd.scene_files) {
+      SceneParseResult p = load_scene_file(path);
+      if (!p) {
+        fmt::print(stderr, "hil_sim run: {}: {}\n", path, p.error);
+        return 2;
+      }
+      if (p.world->name.empty()) p.world->name = std::filesystem::path(path).stem().string();
+      worlds.push_back(std::move(*p.world));
+    }
+  } else if (cmd.suite == "default") {
+    worlds = default_suite(cmd.count, cmd.seed);
+  } else {
+    fmt::print(stderr, "hil_sim run: unknown suite '{}' (known: default)\n", cmd.suite);
+    return 2;
+  }
+
+  // Endpoint.
+  std::unique_ptr<PlannerEndpoint> endpoint;
+  std::string why;
+  if (cmd.target == "inproc") {
+    endpoint = std::make_unique<InprocEndpoint>();
+  } else if (cmd.target == "host" || cmd.target == "qemu") {
+    endpoint = make_link_endpoint(cmd.target, cmd.firmware, &why);
+  }
+  if (!endpoint) {
+    fmt::print(stderr, "hil_sim run: cannot use target '{}'{}\n", cmd.target, why.empty() ? "" : ": " + why);
+    return 2;
+  }
+
+  RunOptions opt;
+  opt.prediction = cmd.prediction == "truth" ? Prediction::kGroundTruth : Prediction::kConstantVelocity;
+  opt.duration = cmd.duration;
+  opt.keep_snapshot = !cmd.plots.empty();
+  if (!cmd.plots.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(cmd.plots, ec);
+    if (ec) {
+      fmt::print(stderr, "hil_sim run: cannot create '{}': {}\n", cmd.plots, ec.message());
+      return 2;
+    }
+  }
+
+  fmt::print("hil_sim run: {} scenes, target {}, prediction {}\n", worlds.size(), endpoint->name(),
+             opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity");
+  std::fflush(stdout);
+  SuiteAggregator suite;
+  std::vector<svg::IndexRow> rows;
+  Progress progress(static_cast<int>(worlds.size()));
+  int collisions = 0, fallbacks = 0;
+  for (std::size_t i = 0; i < worlds.size(); ++i) {
+    const World& w = worlds[i];
+    SceneRunResult r = run_scene(w, *endpoint, opt);
+    const SceneSummary& s = r.summary;
+    collisions += s.collided() ? 1 : 0;
+    fallbacks += s.fallbacks;
+    if (!r.error.empty()) fmt::print(stderr, "\nhil_sim run: {}: {}\n", w.name, r.error);
+    if (!cmd.plots.empty()) {
+      const std::string file = w.name + ".svg";
+      if (!svg::write_text_file((std::filesystem::path(cmd.plots) / file).string(), scene_run_svg(w, r))) {
+        fmt::print(stderr, "hil_sim run: cannot write {}/{}\n", cmd.plots, file);
+        return 2;
+      }
+      std::vector<double> it(s.iterations.begin(), s.iterations.end());
+      const Stats is = compute_stats(it);
+      svg::IndexRow row;
+      row.name = w.name;
+      row.ok = !s.collided() && !s.departed() && !s.crashed && s.fallbacks == 0 && s.invalid_inputs == 0 &&
+               s.link_errors == 0;
+      row.links = {{"svg", file}};
+      std::string tags;
+      for (const auto& t : w.tags) tags += (tags.empty() ? "" : " ") + t;
+      row.metrics = {{"collision", s.collided() ? "yes" : ""},
+                     {"departure", s.departed() ? fmt::format("{:.2f} m", s.max_road_excess_m) : ""},
+                     {"fallbacks", s.fallbacks ? fmt::format("{}", s.fallbacks) : ""},
+                     {"invalid", s.invalid_inputs ? fmt::format("{}", s.invalid_inputs) : ""},
+                     {"link err.", s.link_errors ? fmt::format("{}", s.link_errors) : ""},
+                     {"min clear. [m]", fmt_opt(s.min_clearance_m, "{:.2f}")},
+                     {"progress [m]", fmt::format("{:.1f}", s.progress_m)},
+                     {"max |a_lon|", fmt::format("{:.2f}", s.max_abs_lon_acc)},
+                     {"max |a_lat|", fmt::format("{:.2f}", s.max_abs_lat_acc)},
+                     {"max |jerk|", fmt::format("{:.1f}", s.max_abs_jerk)},
+                     {"iter. mean/max", is.mean ? fmt::format("{:.2f} / {:.0f}", *is.mean, *is.max) : "-"},
+                     {"tags", tags}};
+      rows.push_back(std::move(row));
+    }
+    suite.add(s);
+    progress.update(static_cast<int>(i + 1), w.name, collisions, fallbacks);
+  }
+
+  const json rep = suite.report(endpoint->name());
+  fmt::print("{}", summary_table(rep));
+  if (!cmd.report.empty()) {
+    const std::string err = write_report(rep, cmd.report);
+    if (!err.empty()) {
+      fmt::print(stderr, "hil_sim run: {}\n", err);
+      return 2;
+    }
+    fmt::print("report: {}\n", cmd.report);
+  }
+  if (!cmd.plots.empty()) {
+    std::vector<std::string> lines;
+    std::istringstream table(summary_table(rep));
+    for (std::string line; std::getline(table, line);) {
+      if (!line.empty() && line.front() != '-') lines.push_back(line);
+    }
+    const std::string index = (std::filesystem::path(cmd.plots) / "index.html").string();
+    if (!svg::write_text_file(index, svg::index_html(fmt::format("hil_sim run — {} scenes, target {}",
+                                                                 worlds.size(), endpoint->name()),
+                                                     lines, rows))) {
+      fmt::print(stderr, "hil_sim run: cannot write {}\n", index);
+      return 2;
+    }
+    fmt::print("plots: {}\n", index);
+  }
+  return rep.value("crashes", 0) > 0 ? 3 : 0;
+}
+
+}  // namespace hil::sim

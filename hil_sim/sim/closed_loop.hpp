@@ -1,0 +1,106 @@
+#pragma once
+// The closed loop: a World driven cycle by cycle through any PlannerEndpoint
+// (inproc, host, qemu). Every 0.1 s the ego's current simulated state and the
+// obstacles' perceived state become a planner Scene; the returned plan is
+// tracked by the vehicle model for 0.1 s in 10 ms substeps while the obstacles
+// move along their ground truth; SceneMetrics sees the true footprints.
+// `hil_sim run` (run_command) runs suites of worlds with a progress bar, a
+// summary table, report/1 and per-scene SVG plots. docs/simulation.md.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "itp/scene/scene.hpp"
+#include "sim/metrics.hpp"
+#include "sim/planner_endpoint.hpp"
+#include "sim/scene_convert.hpp"
+#include "sim/svg.hpp"
+#include "sim/vehicle_model.hpp"
+#include "sim/world.hpp"
+
+namespace hil::sim {
+
+struct RunOptions {
+  Prediction prediction = Prediction::kConstantVelocity;
+  double duration = -1.0;        // [s] <= 0: the world's duration, else 12 s
+  double cycle = 0.1;            // [s] planning period (also the metrics step)
+  double emergency_decel = 4.0;  // [m/s^2] braking on a link error or an invalid_input plan
+  TrackingGains gains{};
+  // Keep copies of the planner Scenes of the most interesting cycle (and the
+  // one before it, for stitching) so that plots can re-plan it.
+  bool keep_snapshot = false;
+};
+
+// One planning cycle as the loop saw it (the state is the one planned from).
+struct CycleRecord {
+  double t = 0.0;                  // [s] scene time of the cycle
+  PlanStatus status = PlanStatus::kNone;  // kNone: the endpoint gave no plan (link error)
+  std::string reason;              // fallback / invalid_input reason, or the link error
+  int iterations = 0;
+  double cycle_time_us = -1.0;     // < 0: not measured
+  double instructions = -1.0;      // < 0: not measured
+  double v = 0.0;                  // [m/s] ego speed at t
+  double v_plan = 0.0;             // [m/s] the plan's speed 1 s ahead (0 when no plan)
+  double a_lon = 0.0;              // [m/s^2]
+  double a_lat = 0.0;              // [m/s^2]
+  std::optional<double> clearance; // [m] min true distance to an obstacle at t
+  bool collision = false;          // an overlap at t
+};
+
+// A cycle worth a look (RunOptions::keep_snapshot): the first fallback /
+// invalid input / link error, and the last plan before the first collision
+// (else the plan before the step with the smallest clearance).
+struct CycleSnapshot {
+  int cycle = -1;
+  double now = 0.0;          // [s]
+  std::string why;           // "collision", "fallback: blocked", "min clearance 0.53 m", ...
+  // Scenes to replay in order (the previous cycle's first, when there was one).
+  std::vector<std::pair<double, std::shared_ptr<const itp::scene::Scene>>> scenes;
+};
+
+struct SceneRunResult {
+  SceneSummary summary;
+  std::vector<svg::EgoTraceSample> trace;  // every step, t = 0 .. duration
+  std::vector<CycleRecord> cycles;
+  std::vector<CycleSnapshot> snapshots;    // with RunOptions::keep_snapshot, in cycle order
+  std::string error;                       // why the scene stopped early ("" = it ran to the end)
+};
+
+// Runs one world for its duration. The endpoint is reset() first. Never
+// throws: an exception from the endpoint or a world that does not fit the
+// planner ends the scene as crashed (summary.crashed, error).
+SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const RunOptions& options);
+
+// The per-scene SVG: the XY view of the run (ego footprints over time and the
+// obstacles), speed, clearance, accelerations and plan status over time, and
+// for each snapshot the SL / XY / ST views of that cycle re-planned in-process.
+std::string scene_run_svg(const World& world, const SceneRunResult& result);
+
+// The fmt summary table of a suite (report/1 as written by SuiteAggregator).
+std::string summary_table(const nlohmann::json& report);
+
+// `hil_sim run`.
+struct RunCommand {
+  std::vector<std::string> scene_files;  // empty: the generated suite
+  std::string suite = "default";
+  int count = 200;
+  std::uint64_t seed = 1;
+  std::string target = "inproc";         // inproc | host | qemu
+  std::string firmware;                  // host / qemu: executable or ELF ("" = this build's)
+  std::string prediction = "cv";         // cv | truth
+  std::string report;                    // report/1 path ("" = none)
+  std::string plots;                     // directory for SVGs and index.html ("" = none)
+  double duration = -1.0;                // [s] <= 0: each world's own
+};
+
+// Returns the process exit code: 0 when every scene ran (collisions are
+// results), 2 on usage / setup errors (unreadable scene, unknown target,
+// unwritable output), 3 when a scene crashed (the endpoint threw or a world
+// does not fit the planner); the report is written in every case but 2.
+int run_command(const RunCommand& command);
+
+}  // namespace hil::sim

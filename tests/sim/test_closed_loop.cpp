@@ -1,0 +1,171 @@
+// The closed loop on the inproc target: physical outcomes of whole runs
+// (no timing assertions), determinism, link-error handling, report/1 keys.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "sim/closed_loop.hpp"
+#include "sim/inproc_endpoint.hpp"
+#include "sim/scene_generator.hpp"
+
+using namespace hil::sim;
+
+namespace {
+
+// Straight two-lane road along +x, the ego in the right lane (the reference line).
+World straight_road(double length, double v0, double limit) {
+  World w;
+  w.name = "test-straight";
+  for (double x = 0.0; x <= length + 1e-9; x += 2.0) w.reference_line.push_back({x, 0.0});
+  w.road.lane_width = 3.5;
+  w.road.left_boundary = Boundary::constant_at(5.25);
+  w.road.right_boundary = Boundary::constant_at(-1.75);
+  w.road.speed_limit = limit;
+  w.ego.v = v0;
+  return w;
+}
+
+// An endpoint whose every reply is lost.
+class DeadEndpoint final : public PlannerEndpoint {
+ public:
+  void reset() override {}
+  EndpointResult plan(const itp::scene::Scene&, double, itp::planner::Plan&) override {
+    EndpointResult r;
+    r.error = "no reply (timeout)";
+    return r;
+  }
+  std::string name() const override { return "dead"; }
+};
+
+double final_speed(const SceneRunResult& r) { return r.trace.empty() ? -1.0 : r.trace.back().v; }
+
+}  // namespace
+
+TEST_CASE("closed loop: free straight road for 6 s, no collision or departure, speeds up to the limit") {
+  const World w = straight_road(300.0, 8.0, 15.0);
+  InprocEndpoint ep;
+  RunOptions opt;
+  opt.duration = 6.0;
+  const SceneRunResult r = run_scene(w, ep, opt);
+  const SceneSummary& s = r.summary;
+  CHECK(r.error.empty());
+  CHECK(s.steps == 61);
+  CHECK(s.cycles == 60);
+  CHECK_FALSE(s.collided());
+  CHECK_FALSE(s.departed());
+  CHECK(s.fallbacks == 0);
+  CHECK(s.invalid_inputs == 0);
+  CHECK(s.link_errors == 0);
+  CHECK_FALSE(s.min_clearance_m.has_value());  // no obstacle at all
+  CHECK(s.progress_m > 50.0);
+  CHECK(final_speed(r) > 14.0);
+  CHECK(final_speed(r) < 15.5);
+  CHECK(s.max_abs_lateral_offset < 0.1);
+  CHECK(r.trace.size() == 61);
+  MESSAGE("free road: progress " << s.progress_m << " m, final v " << final_speed(r) << " m/s");
+}
+
+TEST_CASE("closed loop: a static obstacle in the lane is passed with clearance > 0.2 m") {
+  World w = straight_road(300.0, 10.0, 12.0);
+  w.static_obstacles.push_back(StaticObstacle{1, 60.0, 0.3, 0.0, 4.5, 1.8, "parked_car"});
+  InprocEndpoint ep;
+  RunOptions opt;
+  opt.duration = 9.0;
+  const SceneRunResult r = run_scene(w, ep, opt);
+  const SceneSummary& s = r.summary;
+  CHECK(r.error.empty());
+  CHECK_FALSE(s.collided());
+  CHECK_FALSE(s.departed());
+  REQUIRE(s.min_clearance_m.has_value());
+  CHECK(*s.min_clearance_m > 0.2);
+  // Passed: the ego's rear axle ends well beyond the obstacle's front.
+  CHECK(r.trace.back().pose.x > 60.0 + 2.25 + 10.0);
+  // It went round on the left.
+  double max_y = 0.0;
+  for (const auto& e : r.trace) max_y = std::max(max_y, e.pose.y);
+  CHECK(max_y > 1.5);
+  MESSAGE("static obstacle: min clearance " << *s.min_clearance_m << " m, max y " << max_y << " m, fallbacks "
+                                            << s.fallbacks);
+}
+
+TEST_CASE("closed loop: generated scene paper-0000 (seed 1) runs without collision, deterministically") {
+  const World w = generate_scene(1, 0);
+  InprocEndpoint ep;
+  RunOptions opt;
+  opt.keep_snapshot = true;
+  const SceneRunResult a = run_scene(w, ep, opt);
+  CHECK(a.error.empty());
+  CHECK(a.summary.cycles == 120);
+  CHECK_FALSE(a.summary.collided());
+  CHECK_FALSE(a.summary.departed());
+  CHECK(a.summary.invalid_inputs == 0);
+  CHECK(a.summary.progress_m > 30.0);
+  REQUIRE_FALSE(a.snapshots.empty());
+  CHECK_FALSE(a.snapshots.back().scenes.empty());
+
+  // Same endpoint object again (reset between scenes): bit-identical run.
+  const SceneRunResult b = run_scene(w, ep, opt);
+  REQUIRE(a.trace.size() == b.trace.size());
+  bool same = true;
+  for (std::size_t i = 0; i < a.trace.size(); ++i) {
+    same = same && a.trace[i].pose.x == b.trace[i].pose.x && a.trace[i].pose.y == b.trace[i].pose.y &&
+           a.trace[i].v == b.trace[i].v;
+  }
+  CHECK(same);
+  CHECK(a.summary.fallbacks == b.summary.fallbacks);
+  CHECK(a.summary.iterations == b.summary.iterations);
+
+  // The per-scene SVG renders (XY, charts and the re-planned snapshot cycle).
+  const std::string svg = scene_run_svg(w, a);
+  CHECK(svg.rfind("<svg", 0) == 0);
+  CHECK(svg.find("re-planned in-process") != std::string::npos);
+}
+
+TEST_CASE("closed loop: lost replies are link errors and the ego brakes to a stop") {
+  const World w = straight_road(200.0, 8.0, 15.0);
+  DeadEndpoint ep;
+  RunOptions opt;
+  opt.duration = 4.0;
+  const SceneRunResult r = run_scene(w, ep, opt);
+  CHECK(r.summary.link_errors == 40);
+  CHECK(r.summary.cycles == 0);
+  CHECK(final_speed(r) == 0.0);
+  CHECK(r.summary.max_abs_lon_acc == doctest::Approx(opt.emergency_decel));
+  // Stopping distance at the emergency rate.
+  CHECK(r.summary.progress_m == doctest::Approx(8.0 * 8.0 / (2.0 * opt.emergency_decel)).epsilon(0.02));
+}
+
+TEST_CASE("closed loop: report/1 from the suite aggregator has every required key") {
+  const World w = straight_road(300.0, 8.0, 15.0);
+  InprocEndpoint ep;
+  RunOptions opt;
+  opt.duration = 2.0;
+  SuiteAggregator suite;
+  suite.add(run_scene(w, ep, opt).summary);
+  const nlohmann::json rep = suite.report(ep.name());
+  for (const char* key : {"format", "target", "scenes", "cycles", "collisions", "road_departures", "fallbacks",
+                          "invalid_inputs", "link_errors", "crashes", "min_clearance_m", "max_abs_lat_acc",
+                          "max_abs_lon_acc", "iterations", "cycle_time_us", "instructions_per_cycle", "per_scene"}) {
+    CHECK_MESSAGE(rep.contains(key), key);
+  }
+  CHECK(rep["format"] == "report/1");
+  CHECK(rep["target"] == "inproc");
+  CHECK(rep["scenes"] == 1);
+  CHECK(rep["cycles"] == 20);
+  CHECK(rep["iterations"].contains("mean"));
+  CHECK(rep["iterations"].contains("max"));
+  for (const char* k : {"median", "p99", "max"}) CHECK(rep["cycle_time_us"].contains(k));
+  CHECK(rep["cycle_time_us"]["median"].is_number());  // inproc measures its time
+  CHECK(rep["instructions_per_cycle"]["median"].is_null());
+  REQUIRE(rep["per_scene"].size() == 1);
+  CHECK(rep["per_scene"][0]["name"] == "test-straight");
+  CHECK(rep["per_scene"][0].contains("collisions"));
+  CHECK(rep["per_scene"][0].contains("fallbacks"));
+  CHECK(rep["per_scene"][0].contains("min_clearance_m"));
+  const std::string table = summary_table(rep);
+  CHECK(table.find("collisions") != std::string::npos);
+}
