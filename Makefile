@@ -8,6 +8,11 @@ DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-non
                    libcli11-dev libfmt-dev libbenchmark-dev
 FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim
+# make sim SIM_TARGET=inproc SIM_COUNT=20 for a quick run; the default is the
+# 200-scene suite on the Cortex-M7 firmware under QEMU (about an hour).
+SIM_TARGET ?= qemu
+SIM_COUNT ?= 200
+SIM_OUT ?= build/sim
 
 .PHONY: help deps test sim host-debug host-release cortex-m7 size clean
 
@@ -54,9 +59,11 @@ test: deps
 	ctest --preset host-release
 
 sim: deps host-release
-	$(HIL_SIM) ping --target qemu --firmware $(FIRMWARE_ELF) --count 10 --garbage
-	$(HIL_SIM) qp-check --target qemu --firmware $(FIRMWARE_ELF) tests/qp/data/*.qp
-	build/host-release/hil_sim/planner_cli batch --count 200 --seed 1
+	$(HIL_SIM) ping --target qemu --firmware $(FIRMWARE_ELF) --count 3 --garbage
+	$(HIL_SIM) run --suite default --count $(SIM_COUNT) --seed 1 --target $(SIM_TARGET) \
+	  --firmware $(if $(filter qemu,$(SIM_TARGET)),$(FIRMWARE_ELF),build/host-release/port/itp_firmware_host) \
+	  --report $(SIM_OUT)/report.json --plots $(SIM_OUT)/plots
+	@echo "report: $(SIM_OUT)/report.json, plots: $(SIM_OUT)/plots/index.html"
 
 clean:
 	rm -rf build

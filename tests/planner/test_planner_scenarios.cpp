@@ -232,3 +232,22 @@ TEST_CASE("oncoming car beside a parked car: the ego waits or passes, never meet
   CHECK(r.status != itp::PlanStatus::kInvalidInput);
   CHECK(min_clearance(s, *r.plan) >= 0.3);
 }
+
+TEST_CASE("after reset() a reused planner gives bit-identical output to a fresh one") {
+  Scene a = road_scene(1, 0);
+  add_static(a, 1, 45, 0.2);
+  Scene b = road_scene(1, 0);
+  add_mover(b, 2, 40, 0, 0, 6);
+  add_static(b, 3, 70, 3.5);
+  Run reused;
+  reused.go(a);
+  reused.go(b, 0.1);
+  reused.planner->reset();
+  reused.go(b);
+  Run fresh;
+  fresh.go(b);
+  REQUIRE(reused.plan->trajectory.size() == fresh.plan->trajectory.size());
+  CHECK(reused.plan->qp_iterations == fresh.plan->qp_iterations);
+  CHECK(std::memcmp(reused.plan->trajectory.data(), fresh.plan->trajectory.data(),
+                    sizeof(TrajectoryPoint) * fresh.plan->trajectory.size()) == 0);
+}

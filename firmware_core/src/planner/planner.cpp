@@ -16,6 +16,7 @@ constexpr Scalar kDt = config::kSpeedHorizon / static_cast<Scalar>(speed::kSpeed
 constexpr Scalar kMinPathLength = Scalar(20);     // [m] shorter horizon: stop
 constexpr Scalar kPreviousPlanMaxAge = Scalar(1);  // [s] older plans are not stitched
 constexpr int kMaxPathAttempts = 4;                // decisions tried by the path QP per iteration
+constexpr Scalar kFallbackPathAge = Scalar(1);    // [s] a fallback brakes along the last ok plan this long
 static_assert(kSamples == config::kTrajectorySamples, "speed samples are the trajectory samples");
 
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
@@ -206,7 +207,7 @@ Planner::Start Planner::start_state(const scene::Scene& scene, Scalar now) const
   // Stitching: start from the previous plan where the ego is now, unless it
   // has deviated beyond the thresholds (then replan from the ego state).
   const Scalar age = now - previous_time_;
-  if (have_previous_ && age >= 0 && age < kPreviousPlanMaxAge && previous_.status == PlanStatus::kOk &&
+  if (have_previous_ && last_cycle_ok_ && age >= 0 && age < kPreviousPlanMaxAge &&
       path_.status == qp::QpStatus::kOptimal && speed_.status == qp::QpStatus::kOptimal) {
     const Scalar s_plan = path_.s0 + speed_.eval(age, 0);
     const Scalar l_plan = path_.eval(f.s, 0);
@@ -397,10 +398,34 @@ void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason rea
   const Scalar v0 = have_state ? max_of(scene->ego.state.v, Scalar(0)) : Scalar(0);
   const Scalar decel = settings_.comfort_decel;  // < 0
   const bool on_previous = have_previous_ && previous_.trajectory.size() > 1 && now - previous_time_ >= 0 &&
-                           now - previous_time_ < kPreviousPlanMaxAge && out.status != PlanStatus::kInvalidInput;
+                           now - previous_time_ < kFallbackPathAge && out.status != PlanStatus::kInvalidInput &&
+                           have_state;
   const bool on_reference = !on_previous && have_state && reference_.valid() && out.status != PlanStatus::kInvalidInput;
-  const geometry::FrenetPoint f = on_reference ? reference_.to_frenet({scene->ego.state.x, scene->ego.state.y})
-                                               : geometry::FrenetPoint{};
+  geometry::FrenetPoint f = on_reference ? reference_.to_frenet({scene->ego.state.x, scene->ego.state.y})
+                                         : geometry::FrenetPoint{};
+  // Hold the lateral offset of the first fallback cycle while fallbacks last,
+  // instead of following an ego that drifts with its heading.
+  if (on_reference) {
+    if (!holding_fallback_l_) {
+      fallback_l_ = f.l;
+      holding_fallback_l_ = true;
+    }
+    f.l = fallback_l_;
+  }
+  // Where the ego is on the previous plan: its nearest sample.
+  Scalar s_begin = 0;
+  if (on_previous) {
+    Scalar best = -1;
+    for (const TrajectoryPoint& q : previous_.trajectory) {  // kTrajectorySamples
+      const Scalar dx = q.x - scene->ego.state.x;
+      const Scalar dy = q.y - scene->ego.state.y;
+      const Scalar d2 = dx * dx + dy * dy;
+      if (best < 0 || d2 < best) {
+        best = d2;
+        s_begin = q.s;
+      }
+    }
+  }
   for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
     const Scalar t = kDt * static_cast<Scalar>(k);
     const Scalar t_stop = v0 / -decel;
@@ -412,7 +437,6 @@ void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason rea
     p.a = t < t_stop ? decel : Scalar(0);
     if (on_previous) {
       // Walk the previous trajectory by arc length d from where the ego is now.
-      const Scalar s_begin = previous_.trajectory[0].s + (now - previous_time_) * previous_.trajectory[0].v;
       const Scalar target = s_begin + d;
       const TrajectoryPoint* a = &previous_.trajectory[0];
       const TrajectoryPoint* b = &previous_.trajectory[0];
@@ -645,6 +669,15 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   return true;
 }
 
+void Planner::reset() {
+  have_previous_ = false;
+  last_cycle_ok_ = false;
+  holding_fallback_l_ = false;
+  decision_.reset();
+  path_opt_.reset();
+  speed_opt_.reset();
+}
+
 PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
   const std::uint64_t t_begin = ticks_.ticks();
   out = Plan{};
@@ -667,9 +700,15 @@ PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
     iterate(scene, start, out);
   }
   out.timing.total = ticks_.ticks() - t_begin;
-  previous_ = out;
-  previous_time_ = request.now;
-  have_previous_ = out.status == PlanStatus::kOk;
+  // The last ok plan stays for stitching, hysteresis and the fallback's path;
+  // a fallback does not erase it (it ages out instead).
+  if (out.status == PlanStatus::kOk) {
+    previous_ = out;
+    previous_time_ = request.now;
+    have_previous_ = true;
+    holding_fallback_l_ = false;
+  }
+  last_cycle_ok_ = out.status == PlanStatus::kOk;
   return out.status;
 }
 

@@ -69,6 +69,8 @@ struct CoarseResult {
 // default sizes); one instance serves every decision of a cycle.
 class CoarseEvaluator {
  public:
+  // Forget the factorisation: the next solve is cold.
+  void reset() { have_factor_ = false; }
   void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
   void evaluate(const ConvexSpace& space, const Decision& decision, const CoarseInput& in,
                 const CoarseWeights& w, CoarseResult& out);

@@ -28,6 +28,7 @@ struct DecisionWeights {
 
 class DecisionStage {
  public:
+  void reset() { evaluator_.reset(); }
   void set_observer(const qp::PlannerQpObserver* observer) { evaluator_.set_observer(observer); }
   DecisionStatus run(const RoadSl& road, std::span<const SlBox> boxes,
                      const ConvexSpaceParams& params, const CoarseInput& input,

@@ -67,6 +67,8 @@ struct PathResult {
 
 class PathOptimizer {
  public:
+  // Forget the factorisation: the next solve is cold.
+  void reset() { have_factor_ = false; }
   void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
   void solve(const decision::ConvexSpace& space, const decision::Decision& decision,
              const PathInput& in, const PathWeights& w, PathResult& out);

@@ -54,7 +54,10 @@ class Planner {
   }
   PlannerSettings& settings() { return settings_; }
   // Forget the previous plan (no stitching, no hysteresis on the next call).
-  void reset() { have_previous_ = false; }
+  // Back to the state of a new planner: no previous plan (no stitching, no
+  // hysteresis) and no QP factorisations to hotstart from, so that the next
+  // cycle's output depends on its input alone.
+  void reset();
 
   PlanStatus plan(const PlanRequest& request, Plan& out);
 
@@ -128,7 +131,10 @@ class Planner {
   // The previous cycle's output, for stitching and fallbacks.
   Plan previous_{};
   Scalar previous_time_ = 0;
-  bool have_previous_ = false;
+  bool have_previous_ = false;   // previous_ holds the last ok plan
+  bool last_cycle_ok_ = false;   // path_/speed_ are that plan's (stitching needs them)
+  bool holding_fallback_l_ = false;
+  Scalar fallback_l_ = 0;        // [m] lateral offset held by consecutive fallbacks
 };
 
 }  // namespace itp::planner

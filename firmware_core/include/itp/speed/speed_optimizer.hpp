@@ -64,6 +64,8 @@ struct SpeedResult {
 
 class SpeedOptimizer {
  public:
+  // Forget the factorisation: the next solve is cold.
+  void reset() { have_factor_ = false; }
   void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
   void solve(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w,
              SpeedResult& out);
