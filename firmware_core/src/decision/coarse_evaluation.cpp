@@ -1,6 +1,7 @@
 #include "itp/decision/coarse_evaluation.hpp"
 
 #include "itp/decision/corridor.hpp"
+#include "itp/qp/hot_or_cold.hpp"
 
 #include <cmath>
 #include <limits>
@@ -208,17 +209,10 @@ void CoarseEvaluator::evaluate(const ConvexSpace& space, const Decision& decisio
   }
   // H does not depend on the decision (only on the weights), so after the
   // first factorisation every solve is a hotstart: new g and bounds only.
-  const bool same_h = have_factor_ && w.l_smooth == factored_weights_.l_smooth &&
+  const bool same_h = w.l_smooth == factored_weights_.l_smooth &&
                       w.l_ref == factored_weights_.l_ref && w.t_smooth == factored_weights_.t_smooth &&
                       w.t_lb == factored_weights_.t_lb;
-  qp::QpStatus st = qp::QpStatus::kNotFactored;
-  if (same_h) {
-    st = qp::solve_hot(problem_, workspace_, settings_, result_);
-  }
-  if (st == qp::QpStatus::kNotFactored) {
-    st = qp::solve_cold(problem_, workspace_, settings_, result_);
-  }
-  have_factor_ = qp::is_usable(st);  // hotstart only from a clean, optimal solve
+  const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same_h, have_factor_);
   factored_weights_ = w;
   out.status = st;
   out.qp_iterations = result_.iterations;

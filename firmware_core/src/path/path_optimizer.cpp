@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "itp/decision/corridor.hpp"
+#include "itp/qp/hot_or_cold.hpp"
 #include "itp/spline/quintic_block.hpp"
 
 namespace itp::path {
@@ -24,12 +25,7 @@ Scalar kappa_bound_at(const PathInput& in, Scalar s) {
 }  // namespace
 
 Scalar PathResult::eval(Scalar s, int derivative) const {
-  Scalar u = (s - s0) / h;
-  u = u < 0 ? Scalar(0) : (u > static_cast<Scalar>(kB) ? static_cast<Scalar>(kB) : u);
-  int b = static_cast<int>(u);
-  b = b >= kB ? kB - 1 : b;
-  const Scalar tau = (u - static_cast<Scalar>(b)) * h;
-  return spline::eval_monomial(&coefficients[static_cast<std::size_t>(6 * b)], tau, derivative);
+  return spline::eval_spline(coefficients.data(), kB, h, s0, s, derivative);
 }
 
 void PathOptimizer::build(const decision::ConvexSpace& space, const decision::Decision& decision,
@@ -128,17 +124,10 @@ void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::De
   }
   // H and A depend only on h, β and the weights, never on the corridor:
   // hotstart whenever they match (new g and bounds only).
-  const bool same = have_factor_ && h == factored_h_ && in.beta == factored_beta_ && w.target == factored_weights_.target &&
+  const bool same = h == factored_h_ && in.beta == factored_beta_ && w.target == factored_weights_.target &&
                     w.d1 == factored_weights_.d1 && w.d2 == factored_weights_.d2 &&
                     w.d3 == factored_weights_.d3 && w.obstacle == factored_weights_.obstacle;
-  qp::QpStatus st = qp::QpStatus::kNotFactored;
-  if (same) {
-    st = qp::solve_hot(problem_, workspace_, settings_, result_);
-  }
-  if (st == qp::QpStatus::kNotFactored) {
-    st = qp::solve_cold(problem_, workspace_, settings_, result_);
-  }
-  have_factor_ = qp::is_usable(st);
+  const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
   factored_h_ = h;
   factored_beta_ = in.beta;
   factored_weights_ = w;
@@ -150,13 +139,7 @@ void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::De
     for (int i = 0; i < config::kPathVariables; ++i) {  // 63
       out.knots[static_cast<std::size_t>(i)] = result_.x[i];
     }
-    const spline::Matrix6 m = spline::coefficient_map(h);
-    for (int b = 0; b < kB; ++b) {  // kPathBlocks
-      const spline::Vector6 c = m * Eigen::Map<const spline::Vector6>(&out.knots[static_cast<std::size_t>(3 * b)]);
-      for (int k = 0; k < 6; ++k) {  // 6 coefficients
-        out.coefficients[static_cast<std::size_t>(6 * b + k)] = c(k);
-      }
-    }
+    spline::block_coefficients(h, out.knots.data(), kB, out.coefficients.data());
   }
 }
 

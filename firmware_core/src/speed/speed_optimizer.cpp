@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "itp/qp/hot_or_cold.hpp"
 #include "itp/spline/quintic_block.hpp"
 
 namespace itp::speed {
@@ -26,12 +27,7 @@ bool finite_bounds(const SpeedBounds& b) {
 }  // namespace
 
 Scalar SpeedResult::eval(Scalar t, int derivative) const {
-  Scalar u = t / h;
-  u = u < 0 ? Scalar(0) : (u > static_cast<Scalar>(kB) ? static_cast<Scalar>(kB) : u);
-  int b = static_cast<int>(u);
-  b = b >= kB ? kB - 1 : b;
-  const Scalar tau = (u - static_cast<Scalar>(b)) * h;
-  return spline::eval_monomial(&coefficients[static_cast<std::size_t>(6 * b)], tau, derivative);
+  return spline::eval_spline(coefficients.data(), kB, h, Scalar(0), t, derivative);
 }
 
 void SpeedOptimizer::build(const SpeedInput& in, const SpeedBounds& bd, const SpeedWeights& w,
@@ -108,17 +104,10 @@ void SpeedOptimizer::solve(const SpeedInput& in, const SpeedBounds& bounds, cons
     observer_->speed(observer_->context, problem_);
   }
   // H and A depend only on h and the weights: hotstart whenever they match.
-  const bool same = have_factor_ && h == factored_h_ && w.s_up == factored_weights_.s_up &&
+  const bool same = h == factored_h_ && w.s_up == factored_weights_.s_up &&
                     w.v == factored_weights_.v && w.a == factored_weights_.a &&
                     w.jerk == factored_weights_.jerk;
-  qp::QpStatus st = qp::QpStatus::kNotFactored;
-  if (same) {
-    st = qp::solve_hot(problem_, workspace_, settings_, result_);
-  }
-  if (st == qp::QpStatus::kNotFactored) {
-    st = qp::solve_cold(problem_, workspace_, settings_, result_);
-  }
-  have_factor_ = qp::is_usable(st);
+  const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
   factored_h_ = h;
   factored_weights_ = w;
   out.status = st;
@@ -128,13 +117,7 @@ void SpeedOptimizer::solve(const SpeedInput& in, const SpeedBounds& bounds, cons
     for (int i = 0; i < config::kSpeedVariables; ++i) {  // 45
       out.knots[static_cast<std::size_t>(i)] = result_.x[i];
     }
-    const spline::Matrix6 m = spline::coefficient_map(h);
-    for (int b = 0; b < kB; ++b) {  // kSpeedBlocks
-      const spline::Vector6 c = m * Eigen::Map<const spline::Vector6>(&out.knots[static_cast<std::size_t>(3 * b)]);
-      for (int k = 0; k < 6; ++k) {  // 6 coefficients
-        out.coefficients[static_cast<std::size_t>(6 * b + k)] = c(k);
-      }
-    }
+    spline::block_coefficients(h, out.knots.data(), kB, out.coefficients.data());
   }
 }
 

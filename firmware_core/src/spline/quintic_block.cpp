@@ -78,6 +78,24 @@ Scalar eval_monomial(const Scalar* c, Scalar tau, int derivative) {
   return v;
 }
 
+void block_coefficients(Scalar h, const Scalar* knots, int blocks, Scalar* coefficients) {
+  const Matrix6 m = coefficient_map(h);
+  for (int b = 0; b < blocks; ++b) {  // blocks <= the caller's capacity
+    const Vector6 c = m * Eigen::Map<const Vector6>(knots + 3 * b);
+    for (int k = 0; k < kBlockStates; ++k) {  // 6 coefficients
+      coefficients[6 * b + k] = c(k);
+    }
+  }
+}
+
+Scalar eval_spline(const Scalar* coefficients, int blocks, Scalar h, Scalar origin, Scalar x, int derivative) {
+  Scalar u = (x - origin) / h;
+  u = u < 0 ? Scalar(0) : (u > static_cast<Scalar>(blocks) ? static_cast<Scalar>(blocks) : u);
+  int b = static_cast<int>(u);
+  b = b >= blocks ? blocks - 1 : b;
+  return eval_monomial(coefficients + 6 * b, (u - static_cast<Scalar>(b)) * h, derivative);
+}
+
 Row6 integral_row(Scalar h, Scalar a, Scalar b) {
   Row6 e;
   for (int i = 0; i < kBlockStates; ++i) {  // 6

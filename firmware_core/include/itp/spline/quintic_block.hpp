@@ -44,4 +44,10 @@ Row6 integral_row(Scalar h, Scalar a, Scalar b);
 // evaluate a solved spline once its blocks' coefficients are known.
 Scalar eval_monomial(const Scalar* c, Scalar tau, int derivative);
 
+// A solved spline of `blocks` blocks of length h from `origin`: per block the
+// 6 monomial coefficients (from the 3 knot states of each end) ...
+void block_coefficients(Scalar h, const Scalar* knots, int blocks, Scalar* coefficients);
+// ... and its k-th derivative at x, clamped to [origin, origin + blocks h].
+Scalar eval_spline(const Scalar* coefficients, int blocks, Scalar h, Scalar origin, Scalar x, int derivative);
+
 }  // namespace itp::spline
