@@ -18,19 +18,11 @@ InprocEndpoint::InprocEndpoint() : planner_(std::make_unique<itp::planner::Plann
   planner_->set_tick_source(itp::TickSource{&steady_ns, 1000000000u});
 }
 
-// Planner::reset() forgets the previous plan, but the path, speed and coarse
-// QPs keep their factorisation and last active set (hot starts), so the first
-// cycles of a scene would depend on the scene run before it (different QP
-// iterations, results differing in the last bits, then diverging in closed
-// loop). A fresh planner (same settings) makes every scene independent of the
-// order of the suite: `--scene X` and the same scene inside a suite agree.
-void InprocEndpoint::reset() {
-  planner_->reset();
-  const itp::planner::PlannerSettings settings = planner_->settings();
-  planner_ = std::make_unique<itp::planner::Planner>();
-  planner_->settings() = settings;
-  planner_->set_tick_source(itp::TickSource{&steady_ns, 1000000000u});
-}
+// Planner::reset() forgets the previous plan and the QPs' hot-start state, so
+// every scene is independent of the order of the suite: `--scene X` and the
+// same scene inside a suite agree (the firmware targets do the same on the
+// Scene message's reset flag).
+void InprocEndpoint::reset() { planner_->reset(); }
 
 EndpointResult InprocEndpoint::plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) {
   planner_->plan(itp::planner::PlanRequest{&scene, now}, out);

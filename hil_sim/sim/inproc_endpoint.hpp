@@ -12,7 +12,7 @@ namespace hil::sim {
 class InprocEndpoint final : public PlannerEndpoint {
  public:
   InprocEndpoint();
-  void reset() override;  // a fresh planner: no plan, no QP hot-start state from the last scene
+  void reset() override;  // Planner::reset(): no plan, no QP hot-start state from the last scene
   EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) override;
   std::string name() const override { return "inproc"; }
 
