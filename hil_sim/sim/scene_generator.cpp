@@ -286,16 +286,21 @@ DynCandidate make_slow_leader(const Frame& f, Rng& r) {
   return c;
 }
 
+// One of the lanes next to the ego's, drawn uniformly.
+int random_adjacent_lane(const Frame& f, Rng& r) {
+  std::vector<int> lanes;
+  for (int k = 0; k < f.lanes; ++k) {
+    if (std::abs(k - f.ego_lane) == 1) lanes.push_back(k);
+  }
+  return lanes[static_cast<std::size_t>(r.integer(0, static_cast<int>(lanes.size()) - 1))];
+}
+
 DynCandidate make_adjacent_car(const Frame& f, Rng& r) {
   DynCandidate c;
   c.kind = std::string(archetype::kAdjacentCar);
   c.length = r.uniform(4.2, 5.0);
   c.width = r.uniform(1.7, 1.95);
-  std::vector<int> lanes;
-  for (int k = 0; k < f.lanes; ++k) {
-    if (std::abs(k - f.ego_lane) == 1) lanes.push_back(k);
-  }
-  const int lane = lanes[static_cast<std::size_t>(r.integer(0, static_cast<int>(lanes.size()) - 1))];
+  const int lane = random_adjacent_lane(f, r);
   const double v = std::min(1.1 * f.v_limit, std::max(2.0, f.v0 * r.uniform(0.6, 1.3)));
   const double s0 = r.uniform(-25.0, 80.0);
   const double l = f.lane_centre(lane) + r.uniform(-0.2, 0.2);
@@ -308,11 +313,7 @@ DynCandidate make_cut_in(const Frame& f, Rng& r) {
   c.kind = std::string(archetype::kCutIn);
   c.length = r.uniform(4.2, 5.0);
   c.width = r.uniform(1.7, 1.95);
-  std::vector<int> lanes;
-  for (int k = 0; k < f.lanes; ++k) {
-    if (std::abs(k - f.ego_lane) == 1) lanes.push_back(k);
-  }
-  const int lane = lanes[static_cast<std::size_t>(r.integer(0, static_cast<int>(lanes.size()) - 1))];
+  const int lane = random_adjacent_lane(f, r);
   const double v = std::max(2.0, f.v0 * r.uniform(0.5, 1.0));
   const double t_start = r.uniform(0.5, 3.0);
   const double dur = r.uniform(2.5, 4.0);
