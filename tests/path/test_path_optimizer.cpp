@@ -39,9 +39,13 @@ void check_path(const Fixture& f, const PathInput& in, std::size_t pick, double 
   CHECK(f.result.eval(in.s0, 1) == doctest::Approx(in.dl0));
   for (double s = in.s0 + 1.0; s <= in.s0 + in.length; s += 0.25) {
     const LateralInterval c = corridor_at(*f.space, f.set->kept[pick], s);
-    const double l = f.result.eval(s, 0) + in.beta * f.result.eval(s, 1);
-    CHECK(l >= c.lo + 0.5 * in.vehicle_width - tol);
-    CHECK(l <= c.hi - 0.5 * in.vehicle_width + tol);
+    // Both bumper centres, from the rear-axle offset and the heading slope.
+    const double front = f.result.eval(s, 0) + in.front_reach * f.result.eval(s, 1);
+    const double rear = f.result.eval(s, 0) - in.rear_reach * f.result.eval(s, 1);
+    for (const double l : {front, rear}) {
+      CHECK(l >= c.lo + 0.5 * in.vehicle_width - tol);
+      CHECK(l <= c.hi - 0.5 * in.vehicle_width + tol);
+    }
     CHECK(std::fabs(f.result.eval(s, 1)) <= in.dl_max + 1e-6);
     CHECK(std::fabs(f.result.eval(s, 2)) <= in.kappa_max + 1e-6);
   }

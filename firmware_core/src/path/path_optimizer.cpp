@@ -76,22 +76,25 @@ void PathOptimizer::build(const decision::ConvexSpace& space, const decision::De
       const decision::LateralInterval c = decision::corridor_at(space, decision, s);
       const bool at_start = b == 0 && k == 0;  // fixed by init_sl: never binding
       for (int i = 0; i < 6; ++i) {  // rows touch the 6 block variables
-        static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i) + in.beta * r1(i)));
-        static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r1(i)));
-        static_cast<void>(problem_.push_row_entry(row + 2, v0 + i, r2(i)));
+        static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i) + in.front_reach * r1(i)));
+        static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r0(i) - in.rear_reach * r1(i)));
+        static_cast<void>(problem_.push_row_entry(row + 2, v0 + i, r1(i)));
+        static_cast<void>(problem_.push_row_entry(row + 3, v0 + i, r2(i)));
       }
-      problem_.lba[row] = at_start ? -inf : c.lo + half_width;
-      problem_.uba[row] = at_start ? inf : c.hi - half_width;
-      if (problem_.lba[row] > problem_.uba[row]) {  // just the vehicle's width: its middle
-        problem_.lba[row] = problem_.uba[row] = c.mid();
+      for (int end = 0; end < 2; ++end) {  // front and rear bumper rows of (8)
+        problem_.lba[row + end] = at_start ? -inf : c.lo + half_width;
+        problem_.uba[row + end] = at_start ? inf : c.hi - half_width;
+        if (problem_.lba[row + end] > problem_.uba[row + end]) {  // just the vehicle's width: its middle
+          problem_.lba[row + end] = problem_.uba[row + end] = c.mid();
+        }
       }
-      problem_.lba[row + 1] = at_start ? -inf : -in.dl_max;
-      problem_.uba[row + 1] = at_start ? inf : in.dl_max;
+      problem_.lba[row + 2] = at_start ? -inf : -in.dl_max;
+      problem_.uba[row + 2] = at_start ? inf : in.dl_max;
       const Scalar kr = kappa_ref_at(in, s);
       const Scalar kb = kappa_bound_at(in, s);
-      problem_.lba[row + 2] = at_start ? -inf : -kb - kr;
-      problem_.uba[row + 2] = at_start ? inf : kb - kr;
-      row += 3;
+      problem_.lba[row + 3] = at_start ? -inf : -kb - kr;
+      problem_.uba[row + 3] = at_start ? inf : kb - kr;
+      row += kPathRowsPerSample;
     }
   }
   // Knot bounds: the start is init_sl; elsewhere l' and l'' as the rows.
@@ -122,14 +125,16 @@ void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::De
   if (observer_ != nullptr && observer_->path != nullptr) {
     observer_->path(observer_->context, problem_);
   }
-  // H and A depend only on h, β and the weights, never on the corridor:
+  // H and A depend only on h, the bumper reaches and the weights, never on the corridor:
   // hotstart whenever they match (new g and bounds only).
-  const bool same = h == factored_h_ && in.beta == factored_beta_ && w.target == factored_weights_.target &&
+  const bool same = h == factored_h_ && in.front_reach == factored_front_ && in.rear_reach == factored_rear_ &&
+                    w.target == factored_weights_.target &&
                     w.d1 == factored_weights_.d1 && w.d2 == factored_weights_.d2 &&
                     w.d3 == factored_weights_.d3 && w.obstacle == factored_weights_.obstacle;
   const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
   factored_h_ = h;
-  factored_beta_ = in.beta;
+  factored_front_ = in.front_reach;
+  factored_rear_ = in.rear_reach;
   factored_weights_ = w;
   out.status = st;
   out.iterations = result_.iterations;

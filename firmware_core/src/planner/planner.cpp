@@ -17,6 +17,7 @@ constexpr Scalar kMinPathLength = Scalar(20);     // [m] shorter horizon: stop
 constexpr Scalar kPreviousPlanMaxAge = Scalar(1);  // [s] older plans are not stitched
 constexpr int kMaxPathAttempts = 4;                // decisions tried by the path QP per iteration
 constexpr Scalar kFallbackPathAge = Scalar(1);    // [s] a fallback brakes along the last ok plan this long
+constexpr Scalar kOncomingHeading = Scalar(1.5707963267948966);  // [rad] |heading - reference| beyond: oncoming
 static_assert(kSamples == config::kTrajectorySamples, "speed samples are the trajectory samples");
 
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
@@ -140,6 +141,9 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
   for (const scene::DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
     speed::DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_++)];
     tr.id = o.id;
+    tr.oncoming = false;
+    bool seen = false;
+    bool on_road = false;  // first seen on the road: its prediction stays there
     for (int k = 0; k < kSamples; ++k) {  // kStSamples
       const auto u = static_cast<std::size_t>(k);
       const scene::ObstacleSample p = scene::sample_pose(o, now + kDt * static_cast<Scalar>(k));
@@ -148,8 +152,33 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
         continue;
       }
       tr.box[u] = moving_box_sl(reference_, p.x, p.y, p.heading, o.length, o.width, settings_.dynamic_margin, o.id);
+      const Scalar s_mid = Scalar(0.5) * (tr.box[u].s_min + tr.box[u].s_max);
+      if (!seen) {
+        seen = true;
+        const Scalar rel = geometry::relative_heading(p.heading, reference_.evaluate(s_mid).heading);
+        tr.oncoming = std::fabs(rel) > kOncomingHeading;
+        const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
+        on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
+      }
+      if (on_road) {
+        keep_on_road(s_mid, tr.box[u]);
+      }
     }
   }
+}
+
+// Road users seen on the road stay on it: a constant-velocity prediction on a
+// curve runs off along the tangent, so its boxes are shifted back inside the
+// road edges (when they fit), where the road bends the real obstacle.
+void Planner::keep_on_road(Scalar s, decision::SlBox& box) const {
+  const Scalar lo = road_.right.at(s);
+  const Scalar hi = road_.left.at(s);
+  if (box.l_max - box.l_min > hi - lo) {
+    return;
+  }
+  const Scalar shift = box.l_max > hi ? hi - box.l_max : (box.l_min < lo ? lo - box.l_min : Scalar(0));
+  box.l_min += shift;
+  box.l_max += shift;
 }
 
 // Dynamic obstacles enter the convex space where the ego meets them: the first
@@ -181,6 +210,19 @@ int Planner::place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess,
       continue;  // never present, or only behind the ego
     }
     decision::SlBox b = tr.box[static_cast<std::size_t>(k)];
+    if (tr.oncoming) {
+      // An oncoming obstacle sweeps its whole way to the meeting place before
+      // the ego gets there: the ego cannot pass it on the side it comes from.
+      for (int j = 0; j < k; ++j) {  // < kStSamples
+        const auto u = static_cast<std::size_t>(j);
+        if (tr.present[u]) {
+          b.s_min = min_of(b.s_min, tr.box[u].s_min);
+          b.s_max = max_of(b.s_max, tr.box[u].s_max);
+          b.l_min = min_of(b.l_min, tr.box[u].l_min);
+          b.l_max = max_of(b.l_max, tr.box[u].l_max);
+        }
+      }
+    }
     b.s_min -= front_;
     b.s_max += rear_;
     if (boxes_.push_back(b)) {
@@ -396,7 +438,6 @@ void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason rea
   out.trajectory.clear();
   const bool have_state = scene != nullptr && finite_state(scene->ego.state);
   const Scalar v0 = have_state ? max_of(scene->ego.state.v, Scalar(0)) : Scalar(0);
-  const Scalar decel = settings_.comfort_decel;  // < 0
   const bool on_previous = have_previous_ && previous_.trajectory.size() > 1 && now - previous_time_ >= 0 &&
                            now - previous_time_ < kFallbackPathAge && out.status != PlanStatus::kInvalidInput &&
                            have_state;
@@ -426,57 +467,159 @@ void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason rea
       }
     }
   }
-  for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
-    const Scalar t = kDt * static_cast<Scalar>(k);
-    const Scalar t_stop = v0 / -decel;
-    const Scalar tt = min_of(t, t_stop);
-    const Scalar d = v0 * tt + Scalar(0.5) * decel * tt * tt;
-    TrajectoryPoint p;
-    p.t = t;
-    p.v = max_of(v0 + decel * t, Scalar(0));
-    p.a = t < t_stop ? decel : Scalar(0);
-    if (on_previous) {
-      // Walk the previous trajectory by arc length d from where the ego is now.
-      const Scalar target = s_begin + d;
-      const TrajectoryPoint* a = &previous_.trajectory[0];
-      const TrajectoryPoint* b = &previous_.trajectory[0];
-      for (std::size_t i = 1; i < previous_.trajectory.size(); ++i) {  // kTrajectorySamples
-        b = &previous_.trajectory[i];
-        if (b->s >= target) {
-          break;
+  // Comfortable braking unless it runs into an obstacle on the way; then the
+  // vehicle's hard limit (the last resort: shortest stop).
+  const Scalar hard = have_state && scene->ego.limits.a_min < settings_.comfort_decel ? scene->ego.limits.a_min
+                                                                                      : settings_.comfort_decel;
+  for (int attempt = 0; attempt < 2; ++attempt) {  // comfortable, then hard braking
+    const Scalar decel = attempt == 0 ? settings_.comfort_decel : hard;  // < 0
+    out.trajectory.clear();
+    for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
+      const Scalar t = kDt * static_cast<Scalar>(k);
+      const Scalar t_stop = v0 / -decel;
+      const Scalar tt = min_of(t, t_stop);
+      const Scalar d = v0 * tt + Scalar(0.5) * decel * tt * tt;
+      TrajectoryPoint p;
+      p.t = t;
+      p.v = max_of(v0 + decel * t, Scalar(0));
+      p.a = t < t_stop ? decel : Scalar(0);
+      if (on_previous) {
+        // Walk the previous trajectory by arc length d from where the ego is now.
+        const Scalar target = s_begin + d;
+        const TrajectoryPoint* a = &previous_.trajectory[0];
+        const TrajectoryPoint* b = &previous_.trajectory[0];
+        for (std::size_t i = 1; i < previous_.trajectory.size(); ++i) {  // kTrajectorySamples
+          b = &previous_.trajectory[i];
+          if (b->s >= target) {
+            break;
+          }
+          a = b;
         }
-        a = b;
+        const Scalar span = b->s - a->s;
+        const Scalar u = span > Scalar(1e-6) ? clamp((target - a->s) / span, Scalar(0), Scalar(1)) : Scalar(0);
+        const Scalar extra = target > b->s ? target - b->s : Scalar(0);
+        p.x = a->x + u * (b->x - a->x) + extra * std::cos(b->heading);
+        p.y = a->y + u * (b->y - a->y) + extra * std::sin(b->heading);
+        p.heading = a->heading + u * (b->heading - a->heading);
+        p.kappa = a->kappa;
+        p.s = target;
+        p.l = a->l + u * (b->l - a->l);
+      } else if (on_reference) {
+        const Scalar s = min_of(f.s + d, reference_.length());
+        const geometry::CurveSample r = reference_.evaluate(s);
+        p.s = s;
+        p.l = f.l;
+        p.x = r.position.x - f.l * std::sin(r.heading);
+        p.y = r.position.y + f.l * std::cos(r.heading);
+        p.heading = r.heading;
+        p.kappa = r.kappa;
+      } else if (have_state) {
+        const scene::EgoState& e = scene->ego.state;
+        p.x = e.x + d * std::cos(e.heading);
+        p.y = e.y + d * std::sin(e.heading);
+        p.heading = e.heading;
+        p.s = d;
       }
-      const Scalar span = b->s - a->s;
-      const Scalar u = span > Scalar(1e-6) ? clamp((target - a->s) / span, Scalar(0), Scalar(1)) : Scalar(0);
-      const Scalar extra = target > b->s ? target - b->s : Scalar(0);
-      p.x = a->x + u * (b->x - a->x) + extra * std::cos(b->heading);
-      p.y = a->y + u * (b->y - a->y) + extra * std::sin(b->heading);
-      p.heading = a->heading + u * (b->heading - a->heading);
-      p.kappa = a->kappa;
-      p.s = target;
-      p.l = a->l + u * (b->l - a->l);
-    } else if (on_reference) {
-      const Scalar s = min_of(f.s + d, reference_.length());
-      const geometry::CurveSample r = reference_.evaluate(s);
-      p.s = s;
-      p.l = f.l;
-      p.x = r.position.x - f.l * std::sin(r.heading);
-      p.y = r.position.y + f.l * std::cos(r.heading);
-      p.heading = r.heading;
-      p.kappa = r.kappa;
-    } else if (have_state) {
-      const scene::EgoState& e = scene->ego.state;
-      p.x = e.x + d * std::cos(e.heading);
-      p.y = e.y + d * std::sin(e.heading);
-      p.heading = e.heading;
-      p.s = d;
+      static_cast<void>(out.trajectory.push_back(p));
     }
-    static_cast<void>(out.trajectory.push_back(p));
+    if (!have_state || out.status == PlanStatus::kInvalidInput || !collides(*scene, now, out)) {
+      break;
+    }
   }
 }
 
 // --- The iteration (paper §2) -------------------------------------------------
+
+// The track of the nearest moving obstacle whose SL box is in play (all, or
+// only those where the best corridor ends at `reach`), not yet left out; -1: none.
+int Planner::nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only, Scalar reach) const {
+  int found = -1;
+  Scalar nearest = Scalar(0);
+  for (std::size_t i = n_static; i < boxes_.size(); ++i) {  // <= kMaxDynamicObstacles
+    const decision::SlBox& b = boxes_[i];
+    const bool at_reach = b.s_min <= reach + Scalar(0.5) && b.s_max >= reach;
+    if ((at_reach_only && !at_reach) || (found >= 0 && b.s_min >= nearest)) {
+      continue;
+    }
+    for (int j = 0; j < track_count_; ++j) {  // <= kMaxDynamicObstacles
+      if (tracks_[static_cast<std::size_t>(j)].id == b.obstacle_id && !skip[j]) {
+        found = j;
+        nearest = b.s_min;
+      }
+    }
+  }
+  return found;
+}
+
+// Decision (1.1) and path QP (1.2). A moving obstacle is not a wall: when it
+// blocks the best corridor, leaves no decision, or no path QP fits the
+// corridors it shapes, it is left to the ST graph (follow or yield) and the
+// stage runs again, one obstacle more per round. The path QP tries the
+// decisions in cost order (the coarse QP only sees samples every few metres),
+// each first with the curvature bound at the expected speed, then at the
+// steering limit only (the speed stage then slows the ego for it).
+FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>& s_guess, std::size_t n_static,
+                                    const decision::ConvexSpaceParams& cp, const decision::CoarseInput& ci,
+                                    path::PathInput& pi, Plan& out) {
+  bool skip[config::kMaxDynamicObstacles] = {};
+  chosen_ = -1;
+  for (int round = 0; round <= config::kMaxDynamicObstacles; ++round) {  // one more left-out obstacle per round
+    std::uint64_t t0 = ticks_.ticks();
+    while (boxes_.size() > n_static) {  // drop last round's dynamic boxes
+      boxes_.pop_back();
+    }
+    place_dynamic(s_guess, skip);
+    const decision::DecisionStatus ds = decision_.run(road_, boxes_.span(), cp, ci, settings_.decision_weights);
+    ++out.timing.decision_runs;
+    for (std::size_t i = 0; i < decision_.decisions().kept.size(); ++i) {  // <= kKeptDecisions
+      ++out.qp_solves;
+      out.qp_iterations += decision_.coarse(i).qp_iterations;
+    }
+    out.timing.decision += ticks_.ticks() - t0;
+    if (ds == decision::DecisionStatus::kInvalidInput) {
+      return FallbackReason::kNoDecision;
+    }
+    int drop = -1;
+    if (ds == decision::DecisionStatus::kNoDecision || decision_.best() < 0) {
+      drop = nearest_dynamic(n_static, skip, false, Scalar(0));
+      if (drop < 0) {
+        return FallbackReason::kNoDecision;
+      }
+    } else if (ds == decision::DecisionStatus::kBlocked) {
+      const Scalar reach = decision_.decisions().kept[static_cast<std::size_t>(decision_.best())].reach;
+      drop = nearest_dynamic(n_static, skip, true, reach);  // none: blocked by static obstacles, a real stop
+    }
+    if (drop < 0) {
+      t0 = ticks_.ticks();
+      std::array<int, config::kKeptDecisions> order{};
+      const int candidates = rank_decisions(order);
+      for (int attempt = 0; attempt < candidates && attempt < kMaxPathAttempts && chosen_ < 0; ++attempt) {
+        const int index = order[static_cast<std::size_t>(attempt)];
+        const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
+        for (int relax = 0; relax < 2 && chosen_ < 0; ++relax) {  // expected-speed bound, then steering limit
+          pi.kappa_bound = relax == 0 ? &kappa_bound_ : nullptr;
+          path_opt_.solve(decision_.space(), d, pi, settings_.path_weights, path_);
+          ++out.qp_solves;
+          out.qp_iterations += path_.iterations;
+          if (qp::is_usable(path_.status)) {
+            chosen_ = index;
+          }
+        }
+      }
+      out.timing.path += ticks_.ticks() - t0;
+      if (chosen_ >= 0) {
+        return FallbackReason::kNone;
+      }
+      drop = nearest_dynamic(n_static, skip, false, Scalar(0));
+      if (drop < 0) {
+        return FallbackReason::kPathQpFailed;
+      }
+    }
+    skip[drop] = true;
+  }
+  return FallbackReason::kPathQpFailed;
+}
+
 
 bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) {
   std::array<Scalar, kSamples> s_guess{};
@@ -512,6 +655,8 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   pi.ddl0 = start.ddl;
   pi.l_target = scene.road.target_lane_offset;
   pi.vehicle_width = scene.ego.geometry.width;
+  pi.front_reach = front_;
+  pi.rear_reach = rear_;
   pi.kappa_max = limits_.kappa_max;
   pi.kappa_ref = &kappa_;
   speed::SpeedInput si;
@@ -526,83 +671,19 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   bool safe = false;
   for (int iter = 0; iter < config::kMaxPlannerIterations; ++iter) {  // the paper's iteration
     out.iterations = iter + 1;
-    // 1.1 Convex space and decision, with dynamic obstacles at their meeting places.
-    std::uint64_t t0 = ticks_.ticks();
-    bool skip[config::kMaxDynamicObstacles] = {};
-    decision::DecisionStatus ds = decision::DecisionStatus::kNoDecision;
-    for (int round = 0; round <= config::kMaxDynamicObstacles; ++round) {  // one more per left-out obstacle
-      while (boxes_.size() > n_static) {  // drop last round's dynamic boxes
-        boxes_.pop_back();
-      }
-      place_dynamic(s_guess, skip);
-      ds = decision_.run(road_, boxes_.span(), cp, ci, settings_.decision_weights);
-      ++out.timing.decision_runs;
-      if (ds != decision::DecisionStatus::kBlocked) {
-        break;
-      }
-      // A corridor blocked by a moving obstacle is not a wall: leave that
-      // obstacle to the ST graph (follow or yield) and decide again.
-      const decision::Decision& best = decision_.decisions().kept[static_cast<std::size_t>(decision_.best())];
-      bool dropped = false;
-      for (std::size_t i = n_static; i < boxes_.size() && !dropped; ++i) {  // <= kMaxDynamicObstacles
-        const decision::SlBox& b = boxes_[i];
-        if (b.s_min <= best.reach + Scalar(0.5) && b.s_max >= best.reach) {
-          for (int j = 0; j < track_count_; ++j) {  // <= kMaxDynamicObstacles
-            if (tracks_[static_cast<std::size_t>(j)].id == b.obstacle_id && !skip[j]) {
-              skip[j] = true;
-              dropped = true;
-            }
-          }
-        }
-      }
-      if (!dropped) {
-        break;  // blocked by static obstacles: a real stop
-      }
-    }
-    out.timing.decision += ticks_.ticks() - t0;
-    for (std::size_t i = 0; i < decision_.decisions().kept.size(); ++i) {  // <= kKeptDecisions
-      ++out.qp_solves;
-      out.qp_iterations += decision_.coarse(i).qp_iterations;
-    }
-    if (ds == decision::DecisionStatus::kNoDecision || ds == decision::DecisionStatus::kInvalidInput ||
-        decision_.best() < 0) {
-      fallback(&scene, now_, FallbackReason::kNoDecision, out);
-      return false;
-    }
-    // 1.2 Path QP in the best corridor, curvature bounded at the expected
-    // speed; if that is too tight for the corridor, at the steering limit
-    // only (the speed stage then slows the ego down for it). A corridor the
-    // smooth path cannot follow (the coarse QP only sees samples every few
-    // metres) gives way to the next decision in cost order.
-    t0 = ticks_.ticks();
+    // 1.1 + 1.2: convex space, decision and path QP, with dynamic obstacles at
+    // their meeting places.
     update_kappa_bound(s_guess, v_guess);
-    std::array<int, config::kKeptDecisions> order{};
-    const int candidates = rank_decisions(order);
-    chosen_ = -1;
-    for (int attempt = 0; attempt < candidates && attempt < kMaxPathAttempts && chosen_ < 0; ++attempt) {
-      const int index = order[static_cast<std::size_t>(attempt)];
-      const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
-      for (int relax = 0; relax < 2; ++relax) {  // expected-speed bound, then steering limit only
-        pi.kappa_bound = relax == 0 ? &kappa_bound_ : nullptr;
-        path_opt_.solve(decision_.space(), d, pi, settings_.path_weights, path_);
-        ++out.qp_solves;
-        out.qp_iterations += path_.iterations;
-        if (qp::is_usable(path_.status)) {
-          chosen_ = index;
-          break;
-        }
-      }
-    }
-    out.timing.path += ticks_.ticks() - t0;
-    if (chosen_ < 0) {
-      fallback(&scene, now_, FallbackReason::kPathQpFailed, out);
+    const FallbackReason why = decide_path(s_guess, n_static, cp, ci, pi, out);
+    if (why != FallbackReason::kNone) {
+      fallback(&scene, now_, why, out);
       return false;
     }
     const decision::Decision& chosen = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
     blocked_ = !chosen.reaches_end;
 
     // 1.3 ST graph and speed QP along the path.
-    t0 = ticks_.ticks();
+    std::uint64_t t0 = ticks_.ticks();
     stp.stop_s = blocked_ ? chosen.reach + front_ - settings_.stop_margin : Scalar(-1);
     st_.build(path_, std::span<const speed::DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
               stp, s_guess, v_guess, bounds_);

@@ -24,8 +24,9 @@ namespace itp::path {
 
 using PathDims = qp::PathQpDims<Scalar>;
 inline constexpr int kPathKnots = config::kPathBlocks + 1;
-inline constexpr int kPathSamplesPerBlock = qp::kPathQpRows / (3 * config::kPathBlocks);  // 5
-static_assert(3 * kPathSamplesPerBlock * config::kPathBlocks == qp::kPathQpRows,
+inline constexpr int kPathRowsPerSample = 4;  // front end, rear end, l', l''
+inline constexpr int kPathSamplesPerBlock = qp::kPathQpRows / (kPathRowsPerSample * config::kPathBlocks);  // 5
+static_assert(kPathRowsPerSample * kPathSamplesPerBlock * config::kPathBlocks == qp::kPathQpRows,
               "corridor, l' and l'' rows at every sample fill the path QP's rows");
 
 struct PathWeights {
@@ -44,7 +45,11 @@ struct PathInput {
   Scalar ddl0 = 0;     // [1/m] init_sl: d²l/ds²
   Scalar l_target = 0;             // [m] target lane centre
   Scalar vehicle_width = Scalar(1.9);   // [m]
-  Scalar beta = Scalar(0.2);            // [m] heading allowance of (8)
+  // (8) with the car's real ends instead of the paper's β = 0.2: the rows
+  // bound l + front_reach·l' and l − rear_reach·l' (the lateral offsets of the
+  // front and rear bumper centres) so that a heading never swings a corner out.
+  Scalar front_reach = Scalar(3.8);     // [m] rear axle to front bumper
+  Scalar rear_reach = Scalar(1.0);      // [m] rear axle to rear bumper
   Scalar dl_max = Scalar(0.5);          // [-] |l'| bound
   Scalar kappa_max = Scalar(0.2);       // [1/m] curvature limit
   const decision::CurvatureProfile* kappa_ref = nullptr;  // null: straight
@@ -85,7 +90,8 @@ class PathOptimizer {
   qp::QpSettings<Scalar> settings_{};
   PathWeights factored_weights_{};
   Scalar factored_h_ = 0;
-  Scalar factored_beta_ = 0;
+  Scalar factored_front_ = 0;
+  Scalar factored_rear_ = 0;
   const qp::PlannerQpObserver* observer_ = nullptr;
   bool have_factor_ = false;
 };

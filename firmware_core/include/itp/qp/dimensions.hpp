@@ -45,7 +45,7 @@ struct QpDims {
 // Path QP: (l, l', l'') at 21 knots; quintic Hermite blocks couple knot i with
 // i+1, i.e. 6 consecutive variables -> half-bandwidth 5. Rows: 10 corridor +
 // 5 curvature samples per block, each touching the 6 variables of its block.
-inline constexpr int kPathQpRows = 300;
+inline constexpr int kPathQpRows = 400;
 inline constexpr int kPathQpRowNonzeros = 9;
 inline constexpr int kPathQpBandwidth = 5;
 // Speed QP: (s, s', s'') at 15 knots, 15 rows per ST block.
