@@ -352,13 +352,16 @@ DynCandidate make_pedestrian(const Frame& f, Rng& r) {
   c.length = 1.0;
   c.width = 1.0;
   const double stop = f.v0 * f.v0 / (2.0 * f.cfg->max_brake) + 10.0;
-  const double s = f.ego_front + std::max(30.0, stop) + r.uniform(0.0, 60.0);
+  const double offset = r.uniform(0.0, 60.0);
   const double v = r.uniform(1.0, 1.5);
   const bool from_right = r.chance(0.6);
   const double l0 = from_right ? f.right_b - 1.0 : f.left_b + 1.0;
   const double dl = from_right ? v : -v;
   c.t_appear = std::round(r.uniform(0.0, 3.0) / f.cfg->sample_dt) * f.cfg->sample_dt;
   const double t0 = c.t_appear;
+  // The distances count from where the ego (at v0) is when the pedestrian
+  // appears: one that steps out closer than a stop is not a planning problem.
+  const double s = f.ego_front + f.v0 * t0 + std::max(30.0, stop) + offset;
   c.motion = [s, l0, dl, t0](double t) { return FrenetState{s, l0 + dl * (t - t0), 0.0, dl}; };
   return c;
 }

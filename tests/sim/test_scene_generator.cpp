@@ -174,7 +174,7 @@ TEST_CASE("generator: solvability rules hold, checked independently") {
     for (std::size_t i = 0; i < w.static_obstacles.size(); ++i)
       for (std::size_t k = i + 1; k < w.static_obstacles.size(); ++k)
         CHECK_FALSE(boxes_overlap(obstacle_box(w.static_obstacles[i]), obstacle_box(w.static_obstacles[k])));
-    // Pedestrians: a 1.0 m box, 1-1.5 m/s, crossing >= 30 m ahead of the ego's front.
+    // Pedestrians: a 1.0 m box, 1-1.5 m/s, crossing >= 30 m ahead of the ego's front when it appears.
     for (const auto& d : w.dynamic_obstacles) {
       if (d.kind != "pedestrian") continue;
       CHECK(d.length == 1.0);
@@ -183,7 +183,8 @@ TEST_CASE("generator: solvability rules hold, checked independently") {
       CHECK(first.v >= 1.0);
       CHECK(first.v <= 1.5);
       const PolylineProjection q = project_to_polyline(w.reference_line, first.x, first.y);
-      CHECK(q.s - ego_front >= 30.0);
+      // Ahead of where the ego (at its initial speed) is when the pedestrian appears.
+      CHECK(q.s - (ego_front + w.ego.v * first.t) >= 30.0);
       // It starts off the road and walks across it.
       CHECK((q.l < w.road.right_boundary.at(q.s) || q.l > w.road.left_boundary.at(q.s)));
     }
