@@ -87,7 +87,12 @@ class Planner {
   bool prepare(const scene::Scene& scene, Scalar now, Plan& out);
   Start start_state(const scene::Scene& scene, Scalar now) const;
   void project_obstacles(const scene::Scene& scene, Scalar now);
+  void keep_on_road(Scalar s, decision::SlBox& box) const;
   int place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess, bool* skip);
+  int nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only, Scalar reach) const;
+  FallbackReason decide_path(const std::array<Scalar, speed::kStSamples>& s_guess, std::size_t n_static,
+                             const decision::ConvexSpaceParams& cp, const decision::CoarseInput& ci,
+                             path::PathInput& pi, Plan& out);
   bool iterate(const scene::Scene& scene, const Start& start, Plan& out);
   void sample_trajectory(const Start& start, Plan& out) const;
   bool collides(const scene::Scene& scene, Scalar now, const Plan& plan) const;

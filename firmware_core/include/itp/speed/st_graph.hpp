@@ -27,6 +27,7 @@ struct DynamicTrack {
   std::int32_t id = 0;
   std::array<decision::SlBox, kStSamples> box{};
   std::array<bool, kStSamples> present{};  // false before it appears
+  bool oncoming = false;  // drives against the reference direction when first seen
 };
 
 enum class Longitudinal : std::uint8_t {
