@@ -24,13 +24,14 @@ Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
 Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
-decision::LateralProfile to_profile(const scene::Boundary& b) {
+// A road edge moved inwards by `shift` (> 0: towards the left).
+decision::LateralProfile to_profile(const scene::Boundary& b, Scalar shift) {
   if (b.is_constant()) {
-    return decision::LateralProfile::constant(b.offset);
+    return decision::LateralProfile::constant(b.offset + shift);
   }
   decision::LateralProfile p;
   for (const scene::BoundaryPoint& q : b.table) {  // <= kMaxBoundaryPoints
-    static_cast<void>(p.add(q.s, q.l));
+    static_cast<void>(p.add(q.s, q.l + shift));
   }
   return p;
 }
@@ -113,9 +114,10 @@ bool Planner::prepare(const scene::Scene& scene, Scalar now, Plan& out) {
     kappa_.kappa[static_cast<std::size_t>(i)] =
         reference_.evaluate(kappa_.s0 + kappa_.ds * static_cast<Scalar>(i)).kappa;
   }
-  road_.left = to_profile(scene.road.left);
-  road_.right = to_profile(scene.road.right);
+  road_.left = to_profile(scene.road.left, -settings_.road_margin);
+  road_.right = to_profile(scene.road.right, settings_.road_margin);
   road_.lane_width = scene.road.lane_width;
+  lane_target_ = scene.road.target_lane_offset;
   road_.target_lane_offset = scene.road.target_lane_offset;
   limits_.speed_limit = scene.road.speed_limit;
   limits_.a_max = min_of(ego.limits.a_max, settings_.comfort_accel);
@@ -142,6 +144,7 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
     speed::DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_++)];
     tr.id = o.id;
     tr.oncoming = false;
+    tr.from_behind = false;
     bool seen = false;
     bool on_road = false;  // first seen on the road: its prediction stays there
     for (int k = 0; k < kSamples; ++k) {  // kStSamples
@@ -157,6 +160,7 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
         seen = true;
         const Scalar rel = geometry::relative_heading(p.heading, reference_.evaluate(s_mid).heading);
         tr.oncoming = std::fabs(rel) > kOncomingHeading;
+        tr.from_behind = !tr.oncoming && tr.box[u].s_max < s_start_;
         const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
@@ -210,10 +214,14 @@ int Planner::place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess,
       continue;  // never present, or only behind the ego
     }
     decision::SlBox b = tr.box[static_cast<std::size_t>(k)];
-    if (tr.oncoming) {
-      // An oncoming obstacle sweeps its whole way to the meeting place before
-      // the ego gets there: the ego cannot pass it on the side it comes from.
-      for (int j = 0; j < k; ++j) {  // < kStSamples
+    if (tr.oncoming || tr.from_behind) {
+      // An oncoming obstacle sweeps its way towards and past the ego: the ego
+      // cannot pass it on the side it comes from, nor use its lane in between
+      // (a manoeuvre there that stalls leaves the ego in its way). The same
+      // holds for traffic coming up from behind in another lane: cutting in
+      // ahead of it and slowing down gets the ego hit. Its box is everything
+      // it covers over the horizon.
+      for (int j = 0; j < kSamples; ++j) {  // kStSamples
         const auto u = static_cast<std::size_t>(j);
         if (tr.present[u]) {
           b.s_min = min_of(b.s_min, tr.box[u].s_min);
@@ -300,7 +308,14 @@ int Planner::rank_decisions(std::array<int, config::kKeptDecisions>& order) cons
     if (!qp::is_usable(decision_.coarse(i).status)) {
       continue;
     }
-    cost[static_cast<std::size_t>(n)] = decision_.coarse(i).decision_cost - hysteresis_bonus(static_cast<int>(i));
+    const decision::CoarseResult& cr = decision_.coarse(i);
+    Scalar c = cr.decision_cost - hysteresis_bonus(static_cast<int>(i));
+    if (!decision_.decisions().kept[i].reaches_end && cr.samples > 0) {
+      // A stop before a blockage waits in the target lane, not half-way into
+      // another one (where oncoming traffic may come).
+      c += settings_.blocked_lane_weight * std::fabs(cr.l[static_cast<std::size_t>(cr.samples - 1)] - lane_target_);
+    }
+    cost[static_cast<std::size_t>(n)] = c;
     order[static_cast<std::size_t>(n)] = static_cast<int>(i);
     ++n;
   }
@@ -375,22 +390,28 @@ void Planner::sample_trajectory(const Start& start, Plan& out) const {
 }
 
 bool Planner::collides(const scene::Scene& scene, Scalar now, const Plan& plan) const {
+  return first_collision(scene, now, plan) >= 0;
+}
+
+// Index of the first trajectory sample whose footprint overlaps an obstacle; -1: none.
+int Planner::first_collision(const scene::Scene& scene, Scalar now, const Plan& plan) const {
   const scene::VehicleGeometry& g = scene.ego.geometry;
-  for (const TrajectoryPoint& p : plan.trajectory) {  // kTrajectorySamples
+  for (std::size_t k = 0; k < plan.trajectory.size(); ++k) {  // kTrajectorySamples
+    const TrajectoryPoint& p = plan.trajectory[k];
     const collision::OrientedBox ego = collision::box_from_rear_axle(p.x, p.y, p.heading, g.length, g.width, rear_);
     for (const scene::StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
       if (collision::overlap(ego, obstacle_box(o.x, o.y, o.heading, o.length, o.width))) {
-        return true;
+        return static_cast<int>(k);
       }
     }
     for (const scene::DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
       const scene::ObstacleSample q = scene::sample_pose(o, now + p.t);
       if (q.present && collision::overlap(ego, obstacle_box(q.x, q.y, q.heading, o.length, o.width))) {
-        return true;
+        return static_cast<int>(k);
       }
     }
   }
-  return false;
+  return -1;
 }
 
 void Planner::record_decisions(Plan& out) const {
@@ -468,11 +489,13 @@ void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason rea
     }
   }
   // Comfortable braking unless it runs into an obstacle on the way; then the
-  // vehicle's hard limit (the last resort: shortest stop).
+  // vehicle's hard limit (the shortest stop), unless that collides sooner
+  // (e.g. with traffic closing in from behind): then comfortable after all.
   const Scalar hard = have_state && scene->ego.limits.a_min < settings_.comfort_decel ? scene->ego.limits.a_min
                                                                                       : settings_.comfort_decel;
-  for (int attempt = 0; attempt < 2; ++attempt) {  // comfortable, then hard braking
-    const Scalar decel = attempt == 0 ? settings_.comfort_decel : hard;  // < 0
+  int comfortable_hit = -1;
+  for (int attempt = 0; attempt < 3; ++attempt) {  // comfortable, hard, comfortable again
+    const Scalar decel = attempt == 1 ? hard : settings_.comfort_decel;  // < 0
     out.trajectory.clear();
     for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
       const Scalar t = kDt * static_cast<Scalar>(k);
@@ -522,9 +545,14 @@ void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason rea
       }
       static_cast<void>(out.trajectory.push_back(p));
     }
-    if (!have_state || out.status == PlanStatus::kInvalidInput || !collides(*scene, now, out)) {
+    if (!have_state || out.status == PlanStatus::kInvalidInput || attempt == 2) {
       break;
     }
+    const int hit = first_collision(*scene, now, out);
+    if (hit < 0 || (attempt == 1 && hit >= comfortable_hit)) {
+      break;
+    }
+    comfortable_hit = hit;
   }
 }
 

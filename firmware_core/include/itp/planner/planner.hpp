@@ -22,6 +22,7 @@ namespace itp::planner {
 struct PlannerSettings {
   Scalar static_margin = Scalar(0.3);    // [m] SL inflation of static obstacles
   Scalar dynamic_margin = Scalar(0.5);   // [m] SL inflation of dynamic obstacles
+  Scalar road_margin = Scalar(0.15);     // [m] kept from the road edges (tracking error)
   Scalar comfort_decel = Scalar(-3.0);   // [m/s^2] planning braking limit (the scene's a_min is the hard one)
   Scalar comfort_accel = Scalar(2.0);    // [m/s^2] planning acceleration limit
   Scalar stop_margin = Scalar(2.0);      // [m] kept before a blocked corridor
@@ -31,6 +32,7 @@ struct PlannerSettings {
   Scalar replan_longitudinal = Scalar(1.5);  // [m]
   Scalar replan_speed = Scalar(1.0);     // [m/s]
   Scalar hysteresis = Scalar(0.3);       // decision-cost bonus for keeping last cycle's sides
+  Scalar blocked_lane_weight = Scalar(1.0);  // [1/m] decision-cost per metre a blocked stop is off the target lane
   decision::DecisionWeights decision_weights{};
   path::PathWeights path_weights{};
   speed::SpeedWeights speed_weights{};
@@ -96,6 +98,7 @@ class Planner {
   bool iterate(const scene::Scene& scene, const Start& start, Plan& out);
   void sample_trajectory(const Start& start, Plan& out) const;
   bool collides(const scene::Scene& scene, Scalar now, const Plan& plan) const;
+  int first_collision(const scene::Scene& scene, Scalar now, const Plan& plan) const;
   void fallback(const scene::Scene* scene, Scalar now, FallbackReason reason, Plan& out);
   void record_decisions(Plan& out) const;
   int rank_decisions(std::array<int, config::kKeptDecisions>& order) const;
@@ -113,6 +116,7 @@ class Planner {
   decision::CurvatureProfile kappa_bound_{};  // |κ| the path may have at the expected speed
   decision::RoadSl road_{};
   decision::VehicleLimits limits_{};
+  Scalar lane_target_ = 0;  // [m] target lane centre
   Scalar s_start_ = 0;   // [m] path start (the ego's s)
   Scalar length_ = 0;    // [m] path length this cycle
   Scalar front_ = 0;     // [m] rear axle to front bumper

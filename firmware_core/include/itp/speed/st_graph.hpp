@@ -27,7 +27,8 @@ struct DynamicTrack {
   std::int32_t id = 0;
   std::array<decision::SlBox, kStSamples> box{};
   std::array<bool, kStSamples> present{};  // false before it appears
-  bool oncoming = false;  // drives against the reference direction when first seen
+  bool oncoming = false;     // drives against the reference direction when first seen
+  bool from_behind = false;  // first seen behind the ego, driving its way
 };
 
 enum class Longitudinal : std::uint8_t {
