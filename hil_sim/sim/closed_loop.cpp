@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -430,6 +431,39 @@ std::string fmt_opt(const std::optional<double>& x, const char* spec) {
 
 }  // namespace
 
+namespace {
+
+const char* status_name(PlanStatus s) {
+  switch (s) {
+    case PlanStatus::kOk: return "ok";
+    case PlanStatus::kFallback: return "fallback";
+    case PlanStatus::kInvalidInput: return "invalid_input";
+    case PlanStatus::kNone: break;
+  }
+  return "link_error";
+}
+
+// One JSON object per cycle: what the planner said and where the ego was.
+void write_trace(std::ofstream& out, const std::string& scene, const SceneRunResult& r) {
+  for (std::size_t k = 0; k < r.cycles.size(); ++k) {
+    const CycleRecord& c = r.cycles[k];
+    json j{{"scene", scene}, {"t", c.t}, {"status", status_name(c.status)}, {"reason", c.reason},
+           {"iterations", c.iterations}, {"v", c.v}, {"v_plan", c.v_plan}, {"a_lon", c.a_lon},
+           {"a_lat", c.a_lat}, {"collision", c.collision}};
+    j["clearance"] = c.clearance ? json(*c.clearance) : json(nullptr);
+    if (k < r.trace.size()) {
+      j["x"] = r.trace[k].pose.x;
+      j["y"] = r.trace[k].pose.y;
+      j["heading"] = r.trace[k].pose.heading;
+    }
+    if (c.cycle_time_us >= 0) j["cycle_time_us"] = c.cycle_time_us;
+    if (c.instructions >= 0) j["instructions"] = c.instructions;
+    out << j.dump() << '\n';
+  }
+}
+
+}  // namespace
+
 int run_command(const RunCommand& cmd) {
   // Scenes.
   std::vector<World> worlds;
@@ -479,6 +513,14 @@ int run_command(const RunCommand& cmd) {
   fmt::print("hil_sim run: {} scenes, target {}, prediction {}\n", worlds.size(), endpoint->name(),
              opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity");
   std::fflush(stdout);
+  std::ofstream trace;
+  if (!cmd.trace.empty()) {
+    trace.open(cmd.trace);
+    if (!trace) {
+      fmt::print(stderr, "hil_sim run: cannot write '{}'\n", cmd.trace);
+      return 2;
+    }
+  }
   SuiteAggregator suite;
   std::vector<svg::IndexRow> rows;
   Progress progress(static_cast<int>(worlds.size()));
@@ -490,6 +532,7 @@ int run_command(const RunCommand& cmd) {
     collisions += s.collided() ? 1 : 0;
     fallbacks += s.fallbacks;
     if (!r.error.empty()) fmt::print(stderr, "\nhil_sim run: {}: {}\n", w.name, r.error);
+    if (trace.is_open()) write_trace(trace, w.name, r);
     if (!cmd.plots.empty()) {
       const std::string file = w.name + ".svg";
       if (!svg::write_text_file((std::filesystem::path(cmd.plots) / file).string(), scene_run_svg(w, r))) {
