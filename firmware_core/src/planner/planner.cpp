@@ -265,6 +265,7 @@ Planner::Start Planner::start_state(const scene::Scene& scene, Scalar now) const
     if (std::fabs(l_plan - f.l) < settings_.replan_lateral &&
         std::fabs(s_plan - f.s) < settings_.replan_longitudinal &&
         std::fabs(v_plan - st.v) < settings_.replan_speed) {
+      st.stitched_age = age;
       st.l = l_plan;
       st.dl = path_.eval(f.s, 1);
       st.ddl = path_.eval(f.s, 2);
@@ -696,6 +697,24 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   const std::size_t n_static = boxes_.size();
   std::array<Scalar, kSamples> last_s{};
   std::array<Scalar, kSamples> last_l{};
+  // Warm start: a stitched cycle starts the iteration from the previous
+  // plan's motion (still in path_ and speed_), so a plan that still holds is
+  // confirmed by the first iteration instead of re-derived from step 0.
+  const bool warm = start.stitched_age >= 0;
+  if (warm) {
+    const Scalar age = start.stitched_age;
+    const Scalar s_at = speed_.eval(age, 0);
+    const Scalar t_end = config::kSpeedHorizon;
+    for (int k = 0; k < kSamples; ++k) {  // kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      const Scalar t = age + kDt * static_cast<Scalar>(k);
+      const Scalar beyond = t > t_end ? t - t_end : Scalar(0);  // past the old horizon: its last speed
+      s_guess[u] = speed_.eval(t, 0) + beyond * max_of(speed_.eval(t_end, 1), Scalar(0)) - s_at;
+      v_guess[u] = max_of(speed_.eval(t, 1), Scalar(0));
+      last_s[u] = s_guess[u];
+      last_l[u] = path_.eval(start.s + s_guess[u], 0);
+    }
+  }
   bool safe = false;
   for (int iter = 0; iter < config::kMaxPlannerIterations; ++iter) {  // the paper's iteration
     out.iterations = iter + 1;
@@ -753,7 +772,7 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
       v_guess[u] = speed_.eval(kDt * static_cast<Scalar>(k), 1);
     }
     out.timing.check += ticks_.ticks() - t0;
-    const bool converged = iter > 0 && change_s < settings_.converge_s && change_l < settings_.converge_l;
+    const bool converged = (iter > 0 || warm) && change_s < settings_.converge_s && change_l < settings_.converge_l;
     if (safe && converged) {
       break;
     }

@@ -84,6 +84,7 @@ class Planner {
     Scalar s = 0;      // [m]
     Scalar l = 0, dl = 0, ddl = 0;
     Scalar v = 0, a = 0;  // [m/s], [m/s^2]
+    Scalar stitched_age = -1;  // [s] age of the previous plan it was stitched from; < 0: not stitched
   };
 
   bool prepare(const scene::Scene& scene, Scalar now, Plan& out);
