@@ -58,6 +58,18 @@ OrientedBox box_from_rear_axle(Scalar x, Scalar y, Scalar heading, Scalar length
 }
 
 bool overlap(const OrientedBox& a, const OrientedBox& b) {
+  // Circumscribed circles first: most pairs are far apart, and this skips
+  // the trigonometry of the separating-axis test for them (exact: each
+  // circle contains its box).
+  const Scalar dx = a.cx - b.cx;
+  const Scalar dy = a.cy - b.cy;
+  const Scalar ra2 = Scalar(0.25) * (a.length * a.length + a.width * a.width);
+  const Scalar rb2 = Scalar(0.25) * (b.length * b.length + b.width * b.width);
+  const Scalar d2 = dx * dx + dy * dy;
+  // (ra + rb)^2 <= 2 (ra^2 + rb^2): a cheap, still-exact upper bound without square roots.
+  if (d2 > Scalar(2) * (ra2 + rb2)) {
+    return false;
+  }
   const auto ca = corners(a);
   const auto cb = corners(b);
   const Scalar axes[4][2] = {{std::cos(a.heading), std::sin(a.heading)},
