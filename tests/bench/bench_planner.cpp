@@ -1,6 +1,7 @@
 // Google Benchmark of the planner (docs/performance.md): the full cycle over
 // generated scenes of the paper's envelope, and the decision stage on the
-// busiest scenes (10 static + 5 dynamic obstacles). Timing is measured here,
+// busiest scenes (10 static + 5 dynamic obstacles), and the steady state of a
+// planner running at 10 Hz (stitched cycles). Timing is measured here,
 // never asserted in tests.
 #include <benchmark/benchmark.h>
 
@@ -49,25 +50,29 @@ struct Samples {
   int ok = 0, fallback = 0, invalid = 0;
 };
 
+void record(const itp::planner::Plan& plan, Samples& out) {
+  const auto us = [](std::uint64_t ns) { return static_cast<double>(ns) / 1e3; };
+  out.total_us.push_back(us(plan.timing.total));
+  out.prepare_us.push_back(us(plan.timing.prepare));
+  out.decision_us.push_back(us(plan.timing.decision));
+  out.path_us.push_back(us(plan.timing.path));
+  out.speed_us.push_back(us(plan.timing.speed));
+  out.check_us.push_back(us(plan.timing.check));
+  if (plan.timing.decision_runs > 0) {
+    out.decision_run_us.push_back(us(plan.timing.decision) / plan.timing.decision_runs);
+  }
+  out.iterations.push_back(plan.iterations);
+  out.ok += plan.status == itp::PlanStatus::kOk ? 1 : 0;
+  out.fallback += plan.status == itp::PlanStatus::kFallback ? 1 : 0;
+  out.invalid += plan.status == itp::PlanStatus::kInvalidInput ? 1 : 0;
+}
+
 void plan_all(const std::vector<itp::scene::Scene>& scenes, itp::planner::Planner& planner,
               itp::planner::Plan& plan, Samples& out) {
   for (const auto& s : scenes) {
     planner.reset();  // every scene is a first cycle: no stitching
     planner.plan(itp::planner::PlanRequest{&s, 0.0}, plan);
-    const auto us = [](std::uint64_t ns) { return static_cast<double>(ns) / 1e3; };
-    out.total_us.push_back(us(plan.timing.total));
-    out.prepare_us.push_back(us(plan.timing.prepare));
-    out.decision_us.push_back(us(plan.timing.decision));
-    out.path_us.push_back(us(plan.timing.path));
-    out.speed_us.push_back(us(plan.timing.speed));
-    out.check_us.push_back(us(plan.timing.check));
-    if (plan.timing.decision_runs > 0) {
-      out.decision_run_us.push_back(us(plan.timing.decision) / plan.timing.decision_runs);
-    }
-    out.iterations.push_back(plan.iterations);
-    out.ok += plan.status == itp::PlanStatus::kOk ? 1 : 0;
-    out.fallback += plan.status == itp::PlanStatus::kFallback ? 1 : 0;
-    out.invalid += plan.status == itp::PlanStatus::kInvalidInput ? 1 : 0;
+    record(plan, out);
   }
 }
 
@@ -121,6 +126,48 @@ void BM_FullCycle_Envelope(benchmark::State& state) {
   run_suite(state, scenes);
 }
 
+// Steady state at 10 Hz: each scene is planned for kSteadyCycles cycles, the
+// ego moved exactly along the last plan (perfect tracking), so every cycle
+// after the first stitches from the previous plan as in the closed loop. Only
+// those later cycles are measured: the distribution of a running planner.
+constexpr int kSteadyCycles = 20;
+
+void plan_steady(const std::vector<hil::sim::World>& worlds, itp::planner::Planner& planner,
+                 itp::planner::Plan& plan, itp::scene::Scene& scene, Samples& out) {
+  for (const hil::sim::World& w : worlds) {
+    planner.reset();
+    hil::sim::EgoNow ego = hil::sim::ego_at_start(w);
+    for (int k = 0; k < kSteadyCycles; ++k) {
+      const double now = 0.1 * k;
+      if (!hil::sim::make_planner_scene(w, ego, now, hil::sim::Prediction::kGroundTruth, scene).ok) {
+        break;
+      }
+      planner.plan(itp::planner::PlanRequest{&scene, now}, plan);
+      if (k > 0) {
+        record(plan, out);
+      }
+      const itp::planner::TrajectoryPoint& p = plan.trajectory[1];  // 0.1 s on
+      ego = hil::sim::EgoNow{p.x, p.y, p.heading, p.v, p.a, p.kappa};
+    }
+  }
+}
+
+void BM_SteadyCycle_Envelope(benchmark::State& state) {
+  static const auto worlds = hil::sim::default_suite(kEnvelopeScenes, kSeed, hil::sim::GeneratorConfig{});
+  auto planner = std::make_unique<itp::planner::Planner>();
+  auto plan = std::make_unique<itp::planner::Plan>();
+  auto scene = std::make_unique<itp::scene::Scene>();
+  planner->set_tick_source(itp::TickSource{&now_ns, 1000000000u});
+  Samples samples;
+  for (auto _ : state) {
+    Samples one;
+    plan_steady(worlds, *planner, *plan, *scene, one);
+    benchmark::DoNotOptimize(plan->trajectory.data());
+    samples = one;  // the distribution of the last pass (each pass plans the same cycles)
+  }
+  report(state, samples);
+}
+
 void BM_FullCycle_Busy_10s_5d(benchmark::State& state) {
   hil::sim::GeneratorConfig busy;
   busy.min_static = busy.max_static = 10;
@@ -133,5 +180,6 @@ void BM_FullCycle_Busy_10s_5d(benchmark::State& state) {
 
 BENCHMARK(BM_FullCycle_Envelope)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_FullCycle_Busy_10s_5d)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_SteadyCycle_Envelope)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 BENCHMARK_MAIN();
