@@ -16,6 +16,7 @@
 
 #include "formats/qp_text.hpp"
 #include "sim/closed_loop.hpp"
+#include "sim/report_compare.hpp"
 #include "sim/scene_generator.hpp"
 #include "sim/world.hpp"
 #include "itp/link/messages.hpp"
@@ -280,6 +281,13 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--duration", run.duration, "Run length per scene [s] (default: the scene's, else 12)")
       ->check(CLI::PositiveNumber);
 
+  std::string compare_a, compare_b, compare_json;
+  auto* compare_cmd = app.add_subcommand(
+      "compare", "Compare two report/1 files of the same scenes (e.g. qemu vs host): safety outcomes must match");
+  compare_cmd->add_option("a", compare_a, "First report/1 file")->required()->check(CLI::ExistingFile);
+  compare_cmd->add_option("b", compare_b, "Second report/1 file")->required()->check(CLI::ExistingFile);
+  compare_cmd->add_option("--json", compare_json, "Also write the comparison as JSON here");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*ping_cmd) {
@@ -293,6 +301,9 @@ int main(int argc, char** argv) {
     }
     if (*run_cmd) {
       return hil::sim::run_command(run);
+    }
+    if (*compare_cmd) {
+      return hil::sim::compare_command(compare_a, compare_b, compare_json);
     }
   } catch (const std::exception& e) {
     fmt::print(stderr, "hil_sim: {}\n", e.what());
