@@ -12,6 +12,9 @@ HIL_SIM := build/host-release/hil_sim/hil_sim
 # 200-scene suite on the Cortex-M7 firmware under QEMU (about an hour).
 SIM_TARGET ?= qemu
 SIM_COUNT ?= 200
+# The same suite on this target too, compared with the main run (safety
+# outcomes must match; empty: skip).
+SIM_COMPARE ?= host
 SIM_OUT ?= build/sim
 
 .PHONY: help deps test sim host-debug host-release cortex-m7 size clean
@@ -62,7 +65,13 @@ sim: deps host-release
 	$(HIL_SIM) ping --target qemu --firmware $(FIRMWARE_ELF) --count 3 --garbage
 	$(HIL_SIM) run --suite default --count $(SIM_COUNT) --seed 1 --target $(SIM_TARGET) \
 	  --firmware $(if $(filter qemu,$(SIM_TARGET)),$(FIRMWARE_ELF),build/host-release/port/itp_firmware_host) \
-	  --report $(SIM_OUT)/report.json --plots $(SIM_OUT)/plots
+	  --report $(SIM_OUT)/report.json --plots $(SIM_OUT)/plots --trace $(SIM_OUT)/trace.jsonl
+ifneq ($(SIM_COMPARE),)
+	$(HIL_SIM) run --suite default --count $(SIM_COUNT) --seed 1 --target $(SIM_COMPARE) \
+	  --firmware $(if $(filter qemu,$(SIM_COMPARE)),$(FIRMWARE_ELF),build/host-release/port/itp_firmware_host) \
+	  --report $(SIM_OUT)/report-$(SIM_COMPARE).json
+	$(HIL_SIM) compare $(SIM_OUT)/report.json $(SIM_OUT)/report-$(SIM_COMPARE).json --json $(SIM_OUT)/agreement.json
+endif
 	@echo "report: $(SIM_OUT)/report.json, plots: $(SIM_OUT)/plots/index.html"
 
 clean:
