@@ -49,6 +49,7 @@ inline constexpr int kSpeedVariables = (kSpeedBlocks + 1) * kKnotStates;  // 45
 
 // --- Iteration (paper 2) ----------------------------------------------------
 inline constexpr int kMaxPlannerIterations = 5;
+inline constexpr int kRememberedInfeasibleCorridors = 16;  // per cycle: path QPs not repeated on them
 
 // --- Reference line and Frenet frame (docs/frenet.md) -------------------------
 // The smoothing spline is fitted through the polyline plus up to

@@ -559,6 +559,34 @@ void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason rea
 
 // --- The iteration (paper §2) -------------------------------------------------
 
+// A fingerprint of a decision's corridor as the path QP sees it: the
+// bounds at its samples (to the millimetre). Within one cycle the path QP at
+// the steering limit depends on nothing else (the start state is fixed), so a
+// corridor that failed there fails again in a later iteration or round.
+std::uint64_t Planner::corridor_signature(const decision::Decision& d, const path::PathInput& pi) const {
+  constexpr std::uint64_t kFnvPrime = 1099511628211ull;
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a offset basis
+  const int samples = config::kPathBlocks * path::kPathSamplesPerBlock;
+  for (int k = 0; k <= samples; ++k) {  // the path QP's samples
+    const Scalar s = pi.s0 + pi.length * static_cast<Scalar>(k) / static_cast<Scalar>(samples);
+    const decision::LateralInterval c = decision::corridor_at(decision_.space(), d, s);
+    const auto lo = static_cast<std::int64_t>(std::lround(c.lo * Scalar(1000)));
+    const auto hi = static_cast<std::int64_t>(std::lround(c.hi * Scalar(1000)));
+    h = (h ^ static_cast<std::uint64_t>(lo)) * kFnvPrime;
+    h = (h ^ static_cast<std::uint64_t>(hi)) * kFnvPrime;
+  }
+  return h;
+}
+
+bool Planner::known_infeasible(std::uint64_t corridor) const {
+  for (const std::uint64_t c : infeasible_) {  // <= kRememberedInfeasibleCorridors
+    if (c == corridor) {
+      return true;
+    }
+  }
+  return false;
+}
+
 // The track of the nearest moving obstacle whose SL box is in play (all, or
 // only those where the best corridor ends at `reach`), not yet left out; -1: none.
 int Planner::nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only, Scalar reach) const {
@@ -625,6 +653,10 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
       for (int attempt = 0; attempt < candidates && attempt < kMaxPathAttempts && chosen_ < 0; ++attempt) {
         const int index = order[static_cast<std::size_t>(attempt)];
         const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
+        const std::uint64_t corridor = corridor_signature(d, pi);
+        if (known_infeasible(corridor)) {
+          continue;  // this corridor failed at the steering limit earlier in this cycle
+        }
         for (int relax = 0; relax < 2 && chosen_ < 0; ++relax) {  // expected-speed bound, then steering limit
           pi.kappa_bound = relax == 0 ? &kappa_bound_ : nullptr;
           path_opt_.solve(decision_.space(), d, pi, settings_.path_weights, path_);
@@ -633,6 +665,9 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
           if (qp::is_usable(path_.status)) {
             chosen_ = index;
           }
+        }
+        if (chosen_ < 0 && !infeasible_.full()) {
+          static_cast<void>(infeasible_.push_back(corridor));
         }
       }
       out.timing.path += ticks_.ticks() - t0;
@@ -811,6 +846,7 @@ PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
   out = Plan{};
   out.timing.tick_hz = ticks_.hz;
   chosen_ = -1;
+  infeasible_.clear();
   if (request.scene == nullptr) {
     out.status = PlanStatus::kInvalidInput;
     fallback(nullptr, request.now, FallbackReason::kNone, out);

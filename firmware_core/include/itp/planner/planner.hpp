@@ -92,6 +92,8 @@ class Planner {
   void project_obstacles(const scene::Scene& scene, Scalar now);
   void keep_on_road(Scalar s, decision::SlBox& box) const;
   int place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess, bool* skip);
+  std::uint64_t corridor_signature(const decision::Decision& d, const path::PathInput& pi) const;
+  bool known_infeasible(std::uint64_t corridor) const;
   int nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only, Scalar reach) const;
   FallbackReason decide_path(const std::array<Scalar, speed::kStSamples>& s_guess, std::size_t n_static,
                              const decision::ConvexSpaceParams& cp, const decision::CoarseInput& ci,
@@ -135,6 +137,8 @@ class Planner {
   speed::SpeedBounds bounds_{};
   speed::SpeedOptimizer speed_opt_{};
   speed::SpeedResult speed_{};
+  // Corridors whose path QP failed at the steering limit this cycle (skipped when met again).
+  StaticVector<std::uint64_t, config::kRememberedInfeasibleCorridors> infeasible_;
   int chosen_ = -1;  // decision index in decision_.decisions().kept
   bool blocked_ = false;  // the chosen corridor ends at static obstacles
 
