@@ -238,7 +238,7 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
         } else {
           std::vector<TrajectoryPoint> track = to_track(*plan);
           rec.v_plan = sample_plan(track, 1.0).v;
-          metrics.add_plan(t, track);
+          rec.path_deviation = metrics.add_plan(t, track);
           controller.set_plan(std::move(track), t);
         }
       }
@@ -370,6 +370,8 @@ std::string summary_table(const json& rep) {
   row("max |a_lat| [m/s²]", num(rep["max_abs_lat_acc"]));
   row("max |jerk| [m/s³]", num(rep["max_abs_jerk"], "{:.1f}"));
   row("max plan deviation [m]", num(rep["max_plan_deviation_m"], "{:.3f}"));
+  row("path deviation [m] scene median / max",
+      fmt::format("{} / {}", num(rep["median_scene_path_deviation_m"], "{:.3f}"), num(rep["max_path_deviation_m"], "{:.3f}")));
   row("iterations mean / max", fmt::format("{} / {}", num(rep["iterations"]["mean"]), num(rep["iterations"]["max"])));
   const json& ct = rep["cycle_time_us"];
   if (!ct["median"].is_null()) {
@@ -450,6 +452,7 @@ void write_trace(std::ofstream& out, const std::string& scene, const SceneRunRes
     json j{{"scene", scene}, {"t", c.t}, {"status", status_name(c.status)}, {"reason", c.reason},
            {"iterations", c.iterations}, {"v", c.v}, {"v_plan", c.v_plan}, {"a_lon", c.a_lon},
            {"a_lat", c.a_lat}, {"collision", c.collision}};
+    if (c.path_deviation >= 0) j["path_deviation"] = c.path_deviation;
     j["clearance"] = c.clearance ? json(*c.clearance) : json(nullptr);
     if (k < r.trace.size()) {
       j["x"] = r.trace[k].pose.x;

@@ -49,6 +49,7 @@ struct CycleRecord {
   double a_lat = 0.0;              // [m/s^2]
   std::optional<double> clearance; // [m] min true distance to an obstacle at t
   bool collision = false;          // an overlap at t
+  double path_deviation = -1.0;    // [m] this plan's path vs the previous plan's (< 0: none)
 };
 
 // A cycle worth a look (RunOptions::keep_snapshot): the first fallback /

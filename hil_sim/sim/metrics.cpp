@@ -66,8 +66,9 @@ void SceneMetrics::add_step(const StepSample& x) {
   }
 }
 
-void SceneMetrics::add_plan(double t_start, std::span<const TrajectoryPoint> plan) {
-  if (plan.empty()) return;
+double SceneMetrics::add_plan(double t_start, std::span<const TrajectoryPoint> plan) {
+  if (plan.empty()) return -1.0;
+  double cycle_path_dev = -1.0;
   if (!prev_plan_.empty()) {
     // Common absolute times: the new plan's samples inside the previous plan's span.
     const double prev_end = prev_start_ + prev_plan_.back().t;
@@ -83,9 +84,36 @@ void SceneMetrics::add_plan(double t_start, std::span<const TrajectoryPoint> pla
       any = true;
     }
     if (any) s_.max_plan_deviation_m = std::max(s_.max_plan_deviation_m.value_or(0.0), dev);
+    // Path flip-flop, independent of speed changes: how far the new plan's
+    // points lie from the previous plan's path, where the two paths overlap.
+    std::vector<Point2> prev_path;
+    for (const auto& p : prev_plan_) {
+      if (prev_path.empty() || std::hypot(p.x - prev_path.back().x, p.y - prev_path.back().y) > 0.05) {
+        prev_path.push_back({p.x, p.y});
+      }
+    }
+    if (prev_path.size() >= 2) {
+      double length = 0.0;
+      for (std::size_t i = 1; i < prev_path.size(); ++i) {
+        length += std::hypot(prev_path[i].x - prev_path[i - 1].x, prev_path[i].y - prev_path[i - 1].y);
+      }
+      double path_dev = 0.0;
+      bool any_path = false;
+      for (const auto& q : plan) {
+        const PolylineProjection pr = project_to_polyline(prev_path, q.x, q.y);
+        if (pr.s < 0.0 || pr.s > length) continue;  // beyond the previous path's ends
+        path_dev = std::max(path_dev, std::abs(pr.l));
+        any_path = true;
+      }
+      if (any_path) {
+        s_.max_path_deviation_m = std::max(s_.max_path_deviation_m.value_or(0.0), path_dev);
+        cycle_path_dev = path_dev;
+      }
+    }
   }
   prev_plan_.assign(plan.begin(), plan.end());
   prev_start_ = t_start;
+  return cycle_path_dev;
 }
 
 void SceneMetrics::add_link_error(int count) { s_.link_errors += count; }
@@ -140,6 +168,7 @@ json scene_summary_json(const SceneSummary& s) {
             {"max_abs_lateral_offset_m", s.max_abs_lateral_offset},
             {"max_abs_heading_error_rad", s.max_abs_heading_error},
             {"max_plan_deviation_m", opt(s.max_plan_deviation_m)},
+            {"max_path_deviation_m", opt(s.max_path_deviation_m)},
             {"iterations",
              {{"mean", opt(is.mean)},
               {"max", is.max ? json(static_cast<int>(*is.max)) : json(nullptr)}}},
@@ -159,6 +188,8 @@ json SuiteAggregator::report(const std::string& target) const {
   std::optional<double> min_clear;
   double max_lat = 0.0, max_lon = 0.0, max_jerk = 0.0, progress = 0.0;
   std::optional<double> max_dev;
+  std::optional<double> max_path_dev;
+  std::vector<double> path_devs;
   std::map<std::string, int> reasons;
   std::vector<double> iters, ctime, instr;
   json per_scene = json::array();
@@ -174,6 +205,10 @@ json SuiteAggregator::report(const std::string& target) const {
     crashes += s.crashed ? 1 : 0;
     if (s.min_clearance_m) min_clear = min_clear ? std::min(*min_clear, *s.min_clearance_m) : *s.min_clearance_m;
     if (s.max_plan_deviation_m) max_dev = std::max(max_dev.value_or(0.0), *s.max_plan_deviation_m);
+    if (s.max_path_deviation_m) {
+      max_path_dev = std::max(max_path_dev.value_or(0.0), *s.max_path_deviation_m);
+      path_devs.push_back(*s.max_path_deviation_m);
+    }
     max_lat = std::max(max_lat, s.max_abs_lat_acc);
     max_lon = std::max(max_lon, s.max_abs_lon_acc);
     max_jerk = std::max(max_jerk, s.max_abs_jerk);
@@ -212,6 +247,8 @@ json SuiteAggregator::report(const std::string& target) const {
             {"fallback_reasons", reasons},
             {"max_abs_jerk", any ? json(max_jerk) : json(nullptr)},
             {"max_plan_deviation_m", opt(max_dev)},
+            {"max_path_deviation_m", opt(max_path_dev)},
+            {"median_scene_path_deviation_m", opt(compute_stats(path_devs).median)},
             {"progress_m_total", progress},
             {"per_scene", std::move(per_scene)}};
   return j;

@@ -63,6 +63,7 @@ struct SceneSummary {
   double max_abs_lateral_offset = 0.0;
   double max_abs_heading_error = 0.0;
   std::optional<double> max_plan_deviation_m;  // consecutive plans, lateral, common times
+  std::optional<double> max_path_deviation_m;  // consecutive plans, distance between their paths (geometry only)
   std::vector<int> iterations;
   std::vector<double> cycle_time_us;
   std::vector<double> instructions;
@@ -78,7 +79,8 @@ class SceneMetrics {
   void add_step(const StepSample& sample);
   // Every accepted plan (absolute start time, its trajectory with t from 0):
   // feeds plan consistency.
-  void add_plan(double t_start, std::span<const TrajectoryPoint> plan);
+  // Returns this plan's path deviation from the previous one [m] (-1: none to compare).
+  double add_plan(double t_start, std::span<const TrajectoryPoint> plan);
   void add_link_error(int count = 1);
   void set_crashed(std::string reason);
   const SceneSummary& summary() const { return s_; }

@@ -53,8 +53,8 @@ TEST_CASE("metrics: collisions, clearance, departures, fallbacks, comfort, plan 
     p1.push_back({k * 0.1, k * 1.0, 0.0, 0.0, 0.0, 10.0, 0.0});
     p2.push_back({k * 0.1, 1.0 + k * 1.0, 0.3, 0.0, 0.0, 10.0, 0.0});  // 0.1 s later, 0.3 m left
   }
-  m.add_plan(0.0, p1);
-  m.add_plan(0.1, p2);
+  CHECK(m.add_plan(0.0, p1) < 0);                        // nothing to compare with yet
+  CHECK(m.add_plan(0.1, p2) == doctest::Approx(0.3));     // a parallel path 0.3 m to the left
 
   const SceneSummary& s = m.summary();
   CHECK(s.steps == 3);
@@ -159,4 +159,22 @@ TEST_CASE("svg: scene view, line chart and index page are well-formed") {
   CHECK(html.find("<th>collisions</th>") != std::string::npos);
   CHECK(html.find("href=\"paper-0001.svg\"") != std::string::npos);
   CHECK(html.find("class=\"bad\"") != std::string::npos);
+}
+
+TEST_CASE("path deviation ignores speed changes along the same path and measures lateral jumps") {
+  SceneMetrics m("paths");
+  std::vector<TrajectoryPoint> fast, slow, swerve;
+  for (int k = 0; k <= 70; ++k) {
+    const double t = k * 0.1;
+    fast.push_back({t, 10.0 * t, 0.0, 0.0, 0.0, 10.0, 0.0});
+    slow.push_back({t, 1.0 + 5.0 * t, 0.0, 0.0, 0.0, 5.0, 0.0});  // same line, half the speed
+    // The same line, then a lateral step of 1.2 m from x = 20 m on.
+    const double x = 1.5 + 5.0 * t;
+    swerve.push_back({t, x, x > 20.0 ? 1.2 : 0.0, 0.0, 0.0, 5.0, 0.0});
+  }
+  m.add_plan(0.0, fast);
+  CHECK(m.add_plan(0.1, slow) == doctest::Approx(0.0).epsilon(1e-9));
+  CHECK(m.add_plan(0.2, swerve) == doctest::Approx(1.2));
+  REQUIRE(m.summary().max_path_deviation_m.has_value());
+  CHECK(*m.summary().max_path_deviation_m == doctest::Approx(1.2));
 }
