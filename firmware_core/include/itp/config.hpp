@@ -50,6 +50,8 @@ inline constexpr int kSpeedVariables = (kSpeedBlocks + 1) * kKnotStates;  // 45
 // --- Iteration (paper 2) ----------------------------------------------------
 inline constexpr int kMaxPlannerIterations = 5;
 inline constexpr int kRememberedInfeasibleCorridors = 16;  // per cycle: path QPs not repeated on them
+inline constexpr int kMaxPathSolvesPerCycle = 16;          // path QP budget per cycle (bounds the worst case)
+inline constexpr int kPathQpMaxIterations = 60;            // path QP iteration cap (infeasible ones stop early)
 
 // --- Reference line and Frenet frame (docs/frenet.md) -------------------------
 // The smoothing spline is fitted through the polyline plus up to

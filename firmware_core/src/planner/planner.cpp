@@ -657,7 +657,9 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
         if (known_infeasible(corridor)) {
           continue;  // this corridor failed at the steering limit earlier in this cycle
         }
-        for (int relax = 0; relax < 2 && chosen_ < 0; ++relax) {  // expected-speed bound, then steering limit
+        for (int relax = 0; relax < 2 && chosen_ < 0 && path_solves_ < config::kMaxPathSolvesPerCycle;
+             ++relax) {  // expected-speed bound, then steering limit; within the cycle's budget
+          ++path_solves_;
           pi.kappa_bound = relax == 0 ? &kappa_bound_ : nullptr;
           path_opt_.solve(decision_.space(), d, pi, settings_.path_weights, path_);
           ++out.qp_solves;
@@ -665,6 +667,9 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
           if (qp::is_usable(path_.status)) {
             chosen_ = index;
           }
+        }
+        if (chosen_ < 0 && path_solves_ >= config::kMaxPathSolvesPerCycle) {
+          break;  // budget spent: the worst case stays bounded (WCET), the caller falls back
         }
         if (chosen_ < 0 && !infeasible_.full()) {
           static_cast<void>(infeasible_.push_back(corridor));
@@ -675,7 +680,7 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
         return FallbackReason::kNone;
       }
       drop = nearest_dynamic(n_static, skip, false, Scalar(0));
-      if (drop < 0) {
+      if (drop < 0 || path_solves_ >= config::kMaxPathSolvesPerCycle) {
         return FallbackReason::kPathQpFailed;
       }
     }
@@ -847,6 +852,7 @@ PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
   out.timing.tick_hz = ticks_.hz;
   chosen_ = -1;
   infeasible_.clear();
+  path_solves_ = 0;
   if (request.scene == nullptr) {
     out.status = PlanStatus::kInvalidInput;
     fallback(nullptr, request.now, FallbackReason::kNone, out);

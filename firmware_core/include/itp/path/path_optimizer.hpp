@@ -87,7 +87,10 @@ class PathOptimizer {
   qp::QpProblem<PathDims> problem_{};
   qp::QpWorkspace<PathDims> workspace_{};
   qp::QpResult<PathDims> result_{};
-  qp::QpSettings<Scalar> settings_{};
+  // A feasible path QP converges in under 30 iterations (hot) here; proving
+  // infeasibility takes 110-130. The cap turns most of those into an early
+  // iteration-limit failure at half the cost (same outcome: next decision).
+  qp::QpSettings<Scalar> settings_{.max_iterations = config::kPathQpMaxIterations};
   PathWeights factored_weights_{};
   Scalar factored_h_ = 0;
   Scalar factored_front_ = 0;
