@@ -24,8 +24,8 @@ inline std::vector<Point2> straight(Point2 origin, double theta, double length, 
   const int n = static_cast<int>(std::ceil(length / spacing - 1e-9));
   for (int i = 0; i <= n; ++i) {
     const double s = std::min(length, i * spacing);
-    pts.push_back({static_cast<Scalar>(origin.x + s * std::cos(theta)),
-                   static_cast<Scalar>(origin.y + s * std::sin(theta))});
+    pts.push_back({static_cast<Scalar>(static_cast<double>(origin.x) + s * std::cos(theta)),
+                   static_cast<Scalar>(static_cast<double>(origin.y) + s * std::sin(theta))});
   }
   return pts;
 }

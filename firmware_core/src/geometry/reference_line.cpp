@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 #include "itp/geometry/angle.hpp"
+#include "reference_line_spline.hpp"
 
 namespace itp::geometry {
 namespace {
@@ -14,16 +16,6 @@ namespace {
 // Bisection over at most kMaxReferenceKnots entries needs this many halvings.
 constexpr int kSearchSteps =
     static_cast<int>(std::bit_width(static_cast<unsigned>(config::kMaxReferenceKnots))) + 1;
-
-// 5-point Gauss-Legendre on [-1, 1]: exact for polynomials of degree 9; the
-// speed |C'(u)| is a smooth function close to 1 on each segment.
-constexpr int kGaussPoints = 5;
-constexpr Scalar kGaussNode[kGaussPoints] = {
-    Scalar(-0.9061798459386640), Scalar(-0.5384693101056831), Scalar(0),
-    Scalar(0.5384693101056831), Scalar(0.9061798459386640)};
-constexpr Scalar kGaussWeight[kGaussPoints] = {
-    Scalar(0.2369268850561891), Scalar(0.4786286704993665), Scalar(0.5688888888888889),
-    Scalar(0.4786286704993665), Scalar(0.2369268850561891)};
 
 // Signed curvature [1/m] of the circle through three points (0 if collinear).
 Scalar menger_curvature(Point2 a, Point2 b, Point2 c) {
@@ -142,64 +134,47 @@ ReferenceLineStatus ReferenceLine::build(std::span<const Point2> polyline,
   valid_ = true;
   start_ = evaluate(Scalar(0));
   end_ = evaluate(length_);
+  start_tangent_ = {std::cos(start_.heading), std::sin(start_.heading)};
+  end_tangent_ = {std::cos(end_.heading), std::sin(end_.heading)};
+
+  // Bounding circles of the chord groups for the projection's coarse search.
+  // A chord lies in the convex hull of its end knots, so a circle holding a
+  // group's knots holds its chords. The radius is grown to cover the
+  // rounding of the circle test and of the chord distances in to_frenet()
+  // (a few eps of the coordinates; 64 eps is generous).
+  const Scalar eps = std::numeric_limits<Scalar>::epsilon();
+  groups_ = (last_ - first_ + kChordGroup - 1) / kChordGroup;
+  for (int g = 0; g < kMaxChordGroups && g < groups_; ++g) {
+    const int k0 = first_ + g * kChordGroup;
+    const int k1 = std::min(k0 + kChordGroup, last_);
+    Point2 lo{x_[k0], y_[k0]};
+    Point2 hi = lo;
+    for (int k = k0 + 1; k <= k1 && k - k0 <= kChordGroup; ++k) {  // kChordGroup
+      lo = {std::min(lo.x, x_[k]), std::min(lo.y, y_[k])};
+      hi = {std::max(hi.x, x_[k]), std::max(hi.y, y_[k])};
+    }
+    const Point2 centre = Scalar(0.5) * (lo + hi);
+    Scalar radius = Scalar(0);
+    for (int k = k0; k <= k1 && k - k0 <= kChordGroup; ++k) {  // kChordGroup + 1
+      radius = std::max(radius, norm(Point2{x_[k], y_[k]} - centre));
+    }
+    group_centre_[g] = centre;
+    group_radius_[g] =
+        radius + Scalar(64) * eps * (Scalar(1) + radius + std::fabs(centre.x) + std::fabs(centre.y));
+  }
   return ReferenceLineStatus::kOk;
 }
 
-int ReferenceLine::segment_of_parameter(Scalar u) const {
-  int lo = 0;
-  int hi = knots_ - 1;
-  for (int step = 0; step < kSearchSteps && hi - lo > 1; ++step) {
-    const int mid = (lo + hi) / 2;
-    if (t_[mid] <= u) {
-      lo = mid;
-    } else {
-      hi = mid;
-    }
-  }
-  return lo;
-}
-
-// Cubic on [t_i, t_{i+1}], h = t_{i+1} - t_i, a = (t_{i+1} - u)/h, b = 1 - a:
-//   x   = a x_i + b x_{i+1} + ((a^3 - a) x''_i + (b^3 - b) x''_{i+1}) h^2 / 6
-//   x'  = (x_{i+1} - x_i)/h - (3a^2 - 1) h x''_i / 6 + (3b^2 - 1) h x''_{i+1} / 6
-//   x'' = a x''_i + b x''_{i+1},   x''' = (x''_{i+1} - x''_i) / h
-ReferenceLine::Derivatives ReferenceLine::derivatives(int i, Scalar u) const {
-  const Scalar h = t_[i + 1] - t_[i];
-  const Scalar a = (t_[i + 1] - u) / h;
-  const Scalar b = (u - t_[i]) / h;
-  const Scalar h2_6 = h * h / Scalar(6);
-  const Scalar ca = (a * a * a - a) * h2_6;
-  const Scalar cb = (b * b * b - b) * h2_6;
-  const Scalar da = (Scalar(3) * a * a - Scalar(1)) * h / Scalar(6);
-  const Scalar db = (Scalar(3) * b * b - Scalar(1)) * h / Scalar(6);
-  Derivatives d;
-  d.p = {a * x_[i] + b * x_[i + 1] + ca * xpp_[i] + cb * xpp_[i + 1],
-         a * y_[i] + b * y_[i + 1] + ca * ypp_[i] + cb * ypp_[i + 1]};
-  d.d1 = {(x_[i + 1] - x_[i]) / h - da * xpp_[i] + db * xpp_[i + 1],
-          (y_[i + 1] - y_[i]) / h - da * ypp_[i] + db * ypp_[i + 1]};
-  d.d2 = {a * xpp_[i] + b * xpp_[i + 1], a * ypp_[i] + b * ypp_[i + 1]};
-  d.d3 = {(xpp_[i + 1] - xpp_[i]) / h, (ypp_[i + 1] - ypp_[i]) / h};
-  return d;
-}
-
-Scalar ReferenceLine::arc_length_in_segment(int i, Scalar u) const {
-  const Scalar half = (u - t_[i]) / Scalar(2);
-  const Scalar mid = t_[i] + half;
-  Scalar sum = Scalar(0);
-  for (int g = 0; g < kGaussPoints; ++g) {
-    sum += kGaussWeight[g] * norm(derivatives(i, mid + half * kGaussNode[g]).d1);
-  }
-  return half * sum;
-}
-
-Scalar ReferenceLine::arc_length_at(Scalar u) const {
-  const int i = segment_of_parameter(u);
-  return s_[i] + arc_length_in_segment(i, u);
-}
-
 // u(s): bisection over the knots' arc lengths, then Newton on
-// f(u) = s(u) - s with f'(u) = |C'(u)|, started from linear interpolation.
-Scalar ReferenceLine::parameter_at(Scalar s) const {
+// f(w) = (s_lo - s) + s(w) with f'(w) = |C'(w)|, w = u - t_lo, started from
+// linear interpolation. s_lo - s is exact (or nearly so), so f is accurate to
+// ~eps times the segment length, not eps |s|. Newton stops when |f| is at
+// rounding level, or when the step is so small that the next one would be:
+// its error in s is at most step^2 max|C''| / 2 (quadratic convergence;
+// f'' = C'.C''/|C'| <= |C''|, whose maximum on the segment is at a knot since
+// C'' is linear). Typically one arc-length integral per call (1.2 to 1.4 on
+// the test roads), against kArcLengthNewtonSteps (4) plus 4 speeds before.
+Scalar ReferenceLine::parameter_at(Scalar s, int& segment) const {
   int lo = first_;
   int hi = last_;
   for (int step = 0; step < kSearchSteps && hi - lo > 1; ++step) {
@@ -210,27 +185,33 @@ Scalar ReferenceLine::parameter_at(Scalar s) const {
       hi = mid;
     }
   }
+  segment = lo;
+  const Tangent q = tangent_polynomial(lo);
+  const Scalar h = t_[lo + 1] - t_[lo];
   const Scalar seg_s = s_[lo + 1] - s_[lo];
-  Scalar u = t_[lo] + (s - s_[lo]) / seg_s * (t_[lo + 1] - t_[lo]);
-  for (int it = 0; it < config::kArcLengthNewtonSteps; ++it) {
-    const Scalar f = s_[lo] + arc_length_in_segment(lo, u) - s;
-    const Scalar speed = norm(derivatives(lo, u).d1);
-    u = std::clamp(u - f / speed, t_[lo], t_[lo + 1]);
+  Scalar w = (s - s_[lo]) / seg_s * h;
+  const Point2 d2_end{xpp_[lo + 1], ypp_[lo + 1]};  // C'' at the segment's end (q.b at its start)
+  const Scalar max_d2_sq = std::max(dot(q.b, q.b), dot(d2_end, d2_end));
+  const Scalar tolerance =
+      std::numeric_limits<Scalar>::epsilon() * (Scalar(1) + std::fabs(s)) / Scalar(2);
+  for (int it = 0; it < config::kArcLengthNewtonSteps; ++it) {  // kArcLengthNewtonSteps
+    const Scalar f = (s_[lo] - s) + spline_detail::arc_length_of(q.a, q.b, q.c, w);
+    if (std::fabs(f) <= tolerance) {
+      break;
+    }
+    const Scalar speed = norm(spline_detail::tangent_at(q.a, q.b, q.c, w));
+    const Scalar step = f / speed;
+    w = std::clamp(w - step, Scalar(0), h);
+    // Stop if the next error, step^2 max|C''| / 2 in s, is <= tolerance / 2.
+    const Scalar step2 = step * step;
+    if (step2 * step2 * max_d2_sq <= tolerance * tolerance) {
+      break;
+    }
   }
-  return u;
+  return std::clamp(t_[lo] + w, t_[lo], t_[lo + 1]);
 }
 
-CurveSample ReferenceLine::evaluate(Scalar s) const {
-  if (s < Scalar(0) || s > length_) {
-    const CurveSample& end = s < Scalar(0) ? start_ : end_;
-    const Scalar ds = s < Scalar(0) ? s : s - length_;
-    CurveSample out;
-    out.position = end.position + ds * Point2{std::cos(end.heading), std::sin(end.heading)};
-    out.heading = end.heading;
-    return out;  // straight extension: kappa = dkappa = 0
-  }
-  const Scalar u = parameter_at(s);
-  const Derivatives d = derivatives(segment_of_parameter(u), u);
+CurveSample ReferenceLine::sample_of(const Derivatives& d) {
   const Scalar speed2 = dot(d.d1, d.d1);
   const Scalar speed = std::sqrt(speed2);
   const Scalar c12 = cross(d.d1, d.d2);
@@ -243,6 +224,21 @@ CurveSample ReferenceLine::evaluate(Scalar s) const {
       (cross(d.d1, d.d3) * speed2 - Scalar(3) * c12 * dot(d.d1, d.d2)) / (speed2 * speed2 * speed);
   out.dkappa = dkappa_du / speed;
   return out;
+}
+
+CurveSample ReferenceLine::evaluate(Scalar s) const {
+  if (s < Scalar(0) || s > length_) {
+    const CurveSample& end = s < Scalar(0) ? start_ : end_;
+    const Point2 tangent = s < Scalar(0) ? start_tangent_ : end_tangent_;
+    const Scalar ds = s < Scalar(0) ? s : s - length_;
+    CurveSample out;
+    out.position = end.position + ds * tangent;
+    out.heading = end.heading;
+    return out;  // straight extension: kappa = dkappa = 0
+  }
+  int segment = 0;
+  const Scalar u = parameter_at(s, segment);
+  return sample_of(derivatives(segment_near(segment, u), u));
 }
 
 }  // namespace itp::geometry
