@@ -57,8 +57,9 @@ Scalar cartesian_kappa(Scalar l, Scalar dl, Scalar ddl, Scalar kr) {
 // edge-sampled version (about 20 projections each) the planner's largest cost.
 decision::SlBox moving_box_sl(const geometry::ReferenceLine& line, Scalar x, Scalar y, Scalar heading,
                               Scalar length, Scalar width, Scalar margin, std::int32_t id) {
-  const geometry::FrenetPoint c = line.to_frenet(geometry::Point2{x, y});
-  const Scalar rel = geometry::relative_heading(heading, line.evaluate(c.s).heading);
+  geometry::CurveSample foot;
+  const geometry::FrenetPoint c = line.to_frenet(geometry::Point2{x, y}, foot);
+  const Scalar rel = geometry::relative_heading(heading, foot.heading);
   const Scalar cs = std::fabs(std::cos(rel));
   const Scalar sn = std::fabs(std::sin(rel));
   const Scalar half_s = Scalar(0.5) * (cs * length + sn * width) + margin;
@@ -242,8 +243,8 @@ int Planner::place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess,
 
 Planner::Start Planner::start_state(const scene::Scene& scene, Scalar now) const {
   const scene::EgoState& e = scene.ego.state;
-  const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{e.x, e.y});
-  const geometry::CurveSample r = reference_.evaluate(f.s);
+  geometry::CurveSample r;
+  const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{e.x, e.y}, r);
   Start st;
   st.s = f.s;
   st.l = f.l;
