@@ -22,11 +22,26 @@ struct ClientCounters {
   std::uint32_t replies = 0;
   std::uint32_t timeouts = 0;
   std::uint32_t stale_replies = 0;  // a valid frame with another sequence number
+  std::uint32_t nudges = 0;         // lone delimiters sent while a reply was late
+};
+
+// How the client waits for a reply (docs/protocol.md, "Host side").
+struct ClientPacing {
+  // With nothing received for this long, send a lone delimiter (0x00): the
+  // firmware ignores it, and it pushes through request bytes that QEMU's serial
+  // multiplexer may still hold (it only forwards buffered bytes when the UART
+  // reads or a new byte arrives; see hil_sim/link/child_process.cpp).
+  std::chrono::milliseconds nudge_after{100};
+  // Once a reply has started but is not complete, wait this long before the
+  // next read: QEMU's UART writes one byte per system call, and reading each
+  // one as it comes costs a wake-up of this process per byte.
+  std::chrono::microseconds frame_settle{500};
 };
 
 class LinkClient {
  public:
-  explicit LinkClient(ByteTransport& transport) : transport_(transport) {}
+  explicit LinkClient(ByteTransport& transport, ClientPacing pacing = {})
+      : transport_(transport), pacing_(pacing) {}
 
   // Sends one request and waits for the reply with the same sequence number.
   // Returns nullopt on timeout or when the peer is gone.
@@ -42,6 +57,7 @@ class LinkClient {
 
  private:
   ByteTransport& transport_;
+  ClientPacing pacing_;
   itp::link::FrameDecoder decoder_;
   ClientCounters counters_;
   std::uint16_t next_sequence_ = 1;
