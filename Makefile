@@ -9,7 +9,7 @@ DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-non
 FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim
 # make sim SIM_TARGET=inproc SIM_COUNT=20 for a quick run; the default is the
-# 200-scene suite on the Cortex-M7 firmware under QEMU (about 25-40 minutes),
+# 200-scene suite on the Cortex-M7 firmware under QEMU (about 15 minutes),
 # then the same suite on the host-port firmware for comparison.
 SIM_TARGET ?= qemu
 SIM_COUNT ?= 200
