@@ -144,8 +144,7 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
   for (const scene::DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
     speed::DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_++)];
     tr.id = o.id;
-    tr.oncoming = false;
-    tr.from_behind = false;
+    tr.sweep_occupied = false;
     bool seen = false;
     bool on_road = false;  // first seen on the road: its prediction stays there
     for (int k = 0; k < kSamples; ++k) {  // kStSamples
@@ -160,8 +159,9 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
       if (!seen) {
         seen = true;
         const Scalar rel = geometry::relative_heading(p.heading, reference_.evaluate(s_mid).heading);
-        tr.oncoming = std::fabs(rel) > kOncomingHeading;
-        tr.from_behind = !tr.oncoming && tr.box[u].s_max < s_start_;
+        const bool oncoming = std::fabs(rel) > kOncomingHeading;
+        const bool from_behind = tr.box[u].s_max < s_start_;
+        tr.sweep_occupied = oncoming || from_behind;
         const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
@@ -215,7 +215,7 @@ int Planner::place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess,
       continue;  // never present, or only behind the ego
     }
     decision::SlBox b = tr.box[static_cast<std::size_t>(k)];
-    if (tr.oncoming || tr.from_behind) {
+    if (tr.sweep_occupied) {
       // An oncoming obstacle sweeps its way towards and past the ego: the ego
       // cannot pass it on the side it comes from, nor use its lane in between
       // (a manoeuvre there that stalls leaves the ego in its way). The same
@@ -389,10 +389,6 @@ void Planner::sample_trajectory(const Start& start, Plan& out) const {
     p.a = dds * one / std::cos(dtheta);
     static_cast<void>(out.trajectory.push_back(p));
   }
-}
-
-bool Planner::collides(const scene::Scene& scene, Scalar now, const Plan& plan) const {
-  return first_collision(scene, now, plan) >= 0;
 }
 
 // Index of the first trajectory sample whose footprint overlaps an obstacle; -1: none.
@@ -798,7 +794,7 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
     // Check with the real footprints, and measure the change from the last step.
     t0 = ticks_.ticks();
     sample_trajectory(start, out);
-    safe = !collides(scene, now_, out);
+    safe = first_collision(scene, now_, out) < 0;
     Scalar change_s = 0;
     Scalar change_l = 0;
     for (int k = 0; k < kSamples; ++k) {  // kStSamples

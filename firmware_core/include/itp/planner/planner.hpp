@@ -100,7 +100,6 @@ class Planner {
                              path::PathInput& pi, Plan& out);
   bool iterate(const scene::Scene& scene, const Start& start, Plan& out);
   void sample_trajectory(const Start& start, Plan& out) const;
-  bool collides(const scene::Scene& scene, Scalar now, const Plan& plan) const;
   int first_collision(const scene::Scene& scene, Scalar now, const Plan& plan) const;
   void fallback(const scene::Scene* scene, Scalar now, FallbackReason reason, Plan& out);
   void record_decisions(Plan& out) const;

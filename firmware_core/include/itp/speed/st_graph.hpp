@@ -27,8 +27,9 @@ struct DynamicTrack {
   std::int32_t id = 0;
   std::array<decision::SlBox, kStSamples> box{};
   std::array<bool, kStSamples> present{};  // false before it appears
-  bool oncoming = false;     // drives against the reference direction when first seen
-  bool from_behind = false;  // first seen behind the ego, driving its way
+  // Oncoming, or first seen behind the ego: the path treats everything it
+  // covers over the horizon as occupied (planner, place_dynamic).
+  bool sweep_occupied = false;
 };
 
 enum class Longitudinal : std::uint8_t {
