@@ -154,7 +154,7 @@ int run(const Options& opt, bool decide_only) {
     }
     const auto& b = planner->speed_bounds();
     json bounds = json::array();
-    for (int k = 0; k < itp::speed::kStSamples; k += 5) {
+    for (int k = 0; k < itp::DefaultConfig::kStSamples; k += 5) {
       const auto u = static_cast<std::size_t>(k);
       bounds.push_back({{"t", 0.1 * k}, {"s_lo", b.s_lo[u]}, {"s_hi", std::isfinite(b.s_hi[u]) ? json(b.s_hi[u]) : json(nullptr)},
                         {"v_lo", b.v_lo[u]}, {"v_hi", b.v_hi[u]}, {"s_ref", b.s_ref[u]}});

@@ -168,13 +168,13 @@ std::string plot_st(const itp::planner::Planner& planner, const itp::planner::Pl
   for (const auto& p : plan.trajectory) s_max = std::max(s_max, p.s - planner.path_start());
   for (double v : bounds.s_ref) s_max = std::max(s_max, v);
   Canvas c(1400, 380);
-  c.set_view(0, itp::config::kSpeedHorizon, 0, s_max * 1.1, false);
+  c.set_view(0, itp::DefaultConfig::kSpeedHorizon, 0, s_max * 1.1, false);
   c.title(title);
   c.axes("t [s]", "s [m] travelled along the path");
   c.begin_clip();
-  const double dt = itp::config::kSpeedHorizon / itp::speed::kSpeedSamples;
+  const double dt = itp::DefaultConfig::kSpeedHorizon / itp::DefaultConfig::kSpeedSamples;
   for (const auto& d : planner.st_graph().decisions()) {
-    for (int k = 0; k < itp::speed::kStSamples; ++k) {
+    for (int k = 0; k < itp::DefaultConfig::kStSamples; ++k) {
       const auto u = static_cast<std::size_t>(k);
       if (!d.conflict[u]) continue;
       c.polygon(std::vector<Point2>{{k * dt, d.s_lo[u]}, {k * dt + dt, d.s_lo[u]}, {k * dt + dt, d.s_hi[u]}, {k * dt, d.s_hi[u]}},
@@ -182,7 +182,7 @@ std::string plot_st(const itp::planner::Planner& planner, const itp::planner::Pl
     }
   }
   std::vector<Point2> hi, lo, ref, s;
-  for (int k = 0; k < itp::speed::kStSamples; ++k) {
+  for (int k = 0; k < itp::DefaultConfig::kStSamples; ++k) {
     const auto u = static_cast<std::size_t>(k);
     if (std::isfinite(bounds.s_hi[u])) hi.push_back({k * dt, bounds.s_hi[u]});
     lo.push_back({k * dt, bounds.s_lo[u]});

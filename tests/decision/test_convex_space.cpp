@@ -64,7 +64,7 @@ TEST_CASE("bad input is rejected with a status") {
   CHECK(build_convex_space(road(-1.75, 5.25), nan_box, params(), *space) == ConvexSpaceStatus::kInvalidInput);
   const std::vector<SlBox> inverted{box(10, 5, 0, 1, 1)};
   CHECK(build_convex_space(road(-1.75, 5.25), inverted, params(), *space) == ConvexSpaceStatus::kInvalidInput);
-  std::vector<SlBox> too_many(itp::config::kMaxObstacles + 1, box(10, 12, 0, 1, 1));
+  std::vector<SlBox> too_many(itp::DefaultConfig::kMaxObstacles + 1, box(10, 12, 0, 1, 1));
   CHECK(build_convex_space(road(-1.75, 5.25), too_many, params(), *space) == ConvexSpaceStatus::kInvalidInput);
   const std::vector<SlBox> wall{box(-5, 5, -10, 10, 1)};  // covers the ego's slice entirely
   CHECK(build_convex_space(road(-1.75, 5.25), wall, params(), *space) == ConvexSpaceStatus::kNoStartZone);
@@ -78,7 +78,7 @@ TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough, and 
     const Scalar right = -1.75 - 3.5 * static_cast<Scalar>(rng() % 2);
     const Scalar left = 1.75 + 3.5 * static_cast<Scalar>(rng() % 3);
     std::vector<SlBox> boxes;
-    const int n = static_cast<int>(rng() % (itp::config::kMaxObstacles + 1));
+    const int n = static_cast<int>(rng() % (itp::DefaultConfig::kMaxObstacles + 1));
     for (int i = 0; i < n; ++i) {
       const Scalar s0 = -10 + 120 * u(rng);
       const Scalar l0 = right - 1 + (left - right + 2) * u(rng);
@@ -94,7 +94,7 @@ TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough, and 
       CHECK(st == ConvexSpaceStatus::kNoStartZone);
       continue;
     }
-    REQUIRE(space->slices.size() <= static_cast<std::size_t>(itp::config::kMaxSlices));
+    REQUIRE(space->slices.size() <= static_cast<std::size_t>(itp::DefaultConfig::kMaxSlices));
     CHECK(space->slices[0].s_begin == doctest::Approx(0));
     CHECK(space->slices.back().s_end == doctest::Approx(100));
     for (std::size_t i = 0; i < space->slices.size(); ++i) {

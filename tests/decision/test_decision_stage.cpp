@@ -54,9 +54,9 @@ TEST_CASE("earliest arrival follows the kinematic limits") {
   CoarseInput in = input(0, 0);
   in.limits.speed_limit = 10;
   in.limits.a_max = 2;
-  std::array<Scalar, itp::config::kCoarseSamples> t{};
-  const Scalar ds = 100.0 / (itp::config::kCoarseSamples - 1);
-  earliest_arrival(in, 0, ds, itp::config::kCoarseSamples, false, t.data());
+  std::array<Scalar, itp::DefaultConfig::kCoarseSamples> t{};
+  const Scalar ds = 100.0 / (itp::DefaultConfig::kCoarseSamples - 1);
+  earliest_arrival(in, 0, ds, itp::DefaultConfig::kCoarseSamples, false, t.data());
   // From rest at 2 m/s² the ego reaches 10 m/s after 25 m and 5 s, then cruises:
   // t(100 m) = 5 + 75/10 = 12.5 s.
   CHECK(t[0] == 0);

@@ -152,7 +152,7 @@ TEST_CASE("random scenes: branch and bound keeps exactly the K cheapest paths of
       continue;
     }
     const auto ref = brute_force_costs(*b.space, GeometricWeights{});
-    const std::size_t k = std::min<std::size_t>(ref.size(), itp::config::kKeptDecisions);
+    const std::size_t k = std::min<std::size_t>(ref.size(), itp::DefaultConfig::kKeptDecisions);
     REQUIRE(b.set->kept.size() == k);
     for (std::size_t i = 0; i < k; ++i) {
       CHECK(b.set->kept[i].geometric_cost == doctest::Approx(ref[i]).epsilon(1e-9));
@@ -169,7 +169,7 @@ TEST_CASE("random scenes: branch and bound keeps exactly the K cheapest paths of
       }
     }
     ++checked;
-    with_many += ref.size() > itp::config::kKeptDecisions ? 1 : 0;
+    with_many += ref.size() > itp::DefaultConfig::kKeptDecisions ? 1 : 0;
   }
   CHECK(checked > 300);
   CHECK(with_many > 5);  // the K limit was exercised
@@ -178,7 +178,7 @@ TEST_CASE("random scenes: branch and bound keeps exactly the K cheapest paths of
 TEST_CASE("the node budget bounds the search and is reported") {
   // Many small obstacles scattered across a wide road: a huge tree.
   std::vector<SlBox> boxes;
-  for (int i = 0; i < itp::config::kMaxObstacles; ++i) {
+  for (int i = 0; i < itp::DefaultConfig::kMaxObstacles; ++i) {
     const Scalar s0 = 5.0 + 6.0 * i;
     const Scalar l0 = (i % 3 == 0) ? -3.0 : (i % 3 == 1 ? 0.5 : 4.0);
     boxes.push_back(box(s0, s0 + 3, l0, l0 + 0.6, i));
@@ -187,8 +187,8 @@ TEST_CASE("the node budget bounds the search and is reported") {
   itp::decision::RoadSl r = road(-12, 12);
   REQUIRE(build_convex_space(r, boxes, params(0), *b.space) == ConvexSpaceStatus::kOk);
   enumerate_decisions(*b.space, GeometricWeights{}, *b.set);
-  CHECK(b.set->nodes_expanded <= itp::config::kMaxTreeNodes);
-  CHECK(b.set->kept.size() == static_cast<std::size_t>(itp::config::kKeptDecisions));
+  CHECK(b.set->nodes_expanded <= itp::DefaultConfig::kMaxTreeNodes);
+  CHECK(b.set->kept.size() == static_cast<std::size_t>(itp::DefaultConfig::kKeptDecisions));
   for (std::size_t i = 1; i < b.set->kept.size(); ++i) {
     CHECK(b.set->kept[i - 1].geometric_cost <= b.set->kept[i].geometric_cost);
   }

@@ -35,8 +35,8 @@ TEST_CASE("ReferenceLine rejects bad polylines with a named status") {
   CHECK(try_build({good[0]}) == ReferenceLineStatus::kTooFewPoints);
 
   const auto too_many = test_roads::straight({Scalar(0), Scalar(0)}, 0.0,
-                                             itp::config::kMaxReferencePoints, 1.0);
-  REQUIRE(too_many.size() == itp::config::kMaxReferencePoints + 1);
+                                             itp::DefaultConfig::kMaxReferencePoints, 1.0);
+  REQUIRE(too_many.size() == itp::DefaultConfig::kMaxReferencePoints + 1);
   CHECK(try_build(too_many) == ReferenceLineStatus::kTooManyPoints);
 
   auto nan = good;

@@ -72,7 +72,7 @@ TEST_CASE("an offset start converges smoothly back to the lane, C2 everywhere") 
   check_path(f, in, 0, 1e-6);
   CHECK(std::fabs(f.result.eval(100, 0)) < 0.05);
   // C2 at every knot: left and right limits agree for l, l', l'' (by construction).
-  for (int j = 1; j < kPathKnots - 1; ++j) {
+  for (int j = 1; j < itp::DefaultConfig::kPathKnots - 1; ++j) {
     const double s = 5.0 * j;
     for (int d = 0; d <= 2; ++d) {
       CHECK(f.result.eval(s - 1e-7, d) == doctest::Approx(f.result.eval(s + 1e-7, d)).epsilon(1e-4));

@@ -10,9 +10,10 @@ using itp::Scalar;
 using namespace itp::scene;
 
 // A straight road along +x (reference line every 2 m), or an arc of radius R
-// turning left (R > 0).
-inline Scene road_scene(double lanes_left, double lanes_right, double radius = 0, double length = 200) {
-  Scene s;
+// turning left (R > 0). SceneT: the scene type of the planner configuration.
+template <class SceneT = Scene>
+SceneT road_scene(double lanes_left, double lanes_right, double radius = 0, double length = 200) {
+  SceneT s;
   for (double d = 0; d <= length + 1e-9; d += 2.0) {
     itp::geometry::Point2 p;
     if (radius > 0) {
@@ -32,8 +33,9 @@ inline Scene road_scene(double lanes_left, double lanes_right, double radius = 0
   return s;
 }
 
-inline void add_static(Scene& s, int id, double x, double y, double heading = 0, double length = 4.5,
-                       double width = 1.8) {
+template <class SceneT>
+void add_static(SceneT& s, int id, double x, double y, double heading = 0, double length = 4.5,
+                double width = 1.8) {
   StaticObstacle o;
   o.id = id;
   o.x = x;
@@ -45,9 +47,10 @@ inline void add_static(Scene& s, int id, double x, double y, double heading = 0,
 }
 
 // Constant velocity along heading, predicted every 0.1 s for `duration`.
-inline void add_mover(Scene& s, int id, double x, double y, double heading, double v, double length = 4.5,
-                      double width = 1.8, double duration = 7.5) {
-  DynamicObstacle o;
+template <class SceneT>
+void add_mover(SceneT& s, int id, double x, double y, double heading, double v, double length = 4.5,
+               double width = 1.8, double duration = 7.5) {
+  typename decltype(s.dynamic_obstacles)::value_type o;
   o.id = id;
   o.length = length;
   o.width = width;

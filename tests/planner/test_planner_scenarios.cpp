@@ -13,75 +13,13 @@
 #include "itp/collision/oriented_box.hpp"
 #include "itp/planner/planner.hpp"
 #include "itp/scene/obstacle_motion.hpp"
+#include "plan_checks.hpp"
 #include "scene_builder.hpp"
 
 using namespace itp::planner;
 using namespace planner_test;
 
-namespace {
-
-struct Run {
-  std::unique_ptr<Planner> planner = std::make_unique<Planner>();
-  std::unique_ptr<Plan> plan = std::make_unique<Plan>();
-  itp::PlanStatus status = itp::PlanStatus::kInvalidInput;
-
-  void go(const Scene& s, double now = 0) {
-    PlanRequest req{&s, now};
-    test_support::HeapGuard guard;
-    status = planner->plan(req, *plan);
-  }
-};
-
-double rear_overhang(const Scene& s) { return 0.5 * (s.ego.geometry.length - s.ego.geometry.wheelbase); }
-
-// Smallest distance between the ego's footprint and any obstacle over the plan.
-double min_clearance(const Scene& s, const Plan& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const TrajectoryPoint& q : p.trajectory) {
-    const auto ego = itp::collision::box_from_rear_axle(q.x, q.y, q.heading, s.ego.geometry.length,
-                                                        s.ego.geometry.width, rear_overhang(s));
-    for (const auto& o : s.static_obstacles) {
-      best = std::min(best, itp::collision::distance(ego, {o.x, o.y, o.heading, o.length, o.width}));
-    }
-    for (const auto& o : s.dynamic_obstacles) {
-      const auto pose = itp::scene::sample_pose(o, q.t);
-      if (pose.present) {
-        best = std::min(best, itp::collision::distance(ego, {pose.x, pose.y, pose.heading, o.length, o.width}));
-      }
-    }
-  }
-  return best;
-}
-
-// Limits every returned trajectory must respect, recomputed from its samples.
-void check_limits(const Scene& s, const Plan& p) {
-  REQUIRE(p.trajectory.size() == static_cast<std::size_t>(itp::config::kTrajectorySamples));
-  const auto& lim = s.ego.limits;
-  for (std::size_t k = 0; k < p.trajectory.size(); ++k) {
-    const TrajectoryPoint& q = p.trajectory[k];
-    CHECK(std::isfinite(q.x));
-    CHECK(std::isfinite(q.y));
-    CHECK(q.t == doctest::Approx(0.1 * static_cast<double>(k)));
-    CHECK(q.v >= -1e-6);
-    CHECK(q.a <= lim.a_max + 0.2);
-    CHECK(q.a >= lim.a_min - 0.2);
-    CHECK(std::fabs(q.kappa) <= lim.kappa_max + 1e-3);
-    CHECK(std::fabs(q.v * q.v * q.kappa) <= lim.lat_acc_max + 0.3);
-    if (k > 0) {
-      // Positions advance consistently with the speed (finite differences).
-      const TrajectoryPoint& a = p.trajectory[k - 1];
-      const double step = std::hypot(q.x - a.x, q.y - a.y);
-      CHECK(step == doctest::Approx(0.05 * (a.v + q.v)).epsilon(0.1).scale(1.0));
-    }
-  }
-  // Road boundaries: every ego corner inside [right, left] (lateral offset l).
-  for (const TrajectoryPoint& q : p.trajectory) {
-    CHECK(q.l + 0.5 * s.ego.geometry.width <= s.road.left.offset + 0.2);
-    CHECK(q.l - 0.5 * s.ego.geometry.width >= s.road.right.offset - 0.2);
-  }
-}
-
-}  // namespace
+using Run = PlanRun<itp::DefaultConfig>;
 
 TEST_CASE("free road: smooth cruise up to the speed limit, in lane") {
   Scene s = road_scene(1, 0);
@@ -94,7 +32,7 @@ TEST_CASE("free road: smooth cruise up to the speed limit, in lane") {
     CHECK(std::fabs(q.l) < 0.1);
   }
   CHECK(r.plan->iterations >= 1);
-  CHECK(r.plan->iterations <= itp::config::kMaxPlannerIterations);
+  CHECK(r.plan->iterations <= itp::DefaultConfig::kMaxPlannerIterations);
 }
 
 TEST_CASE("static obstacle in lane: passes with clearance and returns to the lane") {
@@ -174,7 +112,8 @@ TEST_CASE("invalid input gives invalid_input with a safe stopping trajectory, ne
   r.go(s);
   CHECK(r.status == itp::PlanStatus::kInvalidInput);
   CHECK(r.plan->invalid == itp::scene::ValidationReason::kNonFiniteValue);
-  REQUIRE(r.plan->trajectory.size() == static_cast<std::size_t>(itp::config::kTrajectorySamples));
+  REQUIRE(r.plan->trajectory.size() ==
+          static_cast<std::size_t>(itp::DefaultConfig::kTrajectorySamples));
   for (const auto& q : r.plan->trajectory) {
     CHECK(std::isfinite(q.x));
     CHECK(q.v == 0);

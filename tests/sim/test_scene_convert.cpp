@@ -50,7 +50,8 @@ TEST_CASE("a long reference line is cut to a window around the ego, boundaries s
   itp::scene::Scene s;
   const auto res = make_planner_scene(w, ego_at_start(w), 0.0, Prediction::kGroundTruth, s);
   REQUIRE_MESSAGE(res.ok, res.error);
-  CHECK(s.reference_line.size() <= static_cast<std::size_t>(itp::config::kMaxReferencePoints));
+  CHECK(s.reference_line.size() <=
+        static_cast<std::size_t>(itp::DefaultConfig::kMaxReferencePoints));
   CHECK(s.reference_line[0].x <= 250 - 10);
   CHECK(s.reference_line.back().x >= 250 + 100);
   // The boundary narrows at world s = 300..320, i.e. window s = 300 - s0.
@@ -95,7 +96,7 @@ TEST_CASE("more obstacles in range than the planner holds is an error, not a tru
   w.road.left_boundary = Boundary::constant_at(5.25);
   w.road.right_boundary = Boundary::constant_at(-1.75);
   w.road.speed_limit = 15;
-  for (int i = 0; i < itp::config::kMaxStaticObstacles + 1; ++i) {
+  for (int i = 0; i < itp::DefaultConfig::kMaxStaticObstacles + 1; ++i) {
     w.static_obstacles.push_back({i + 1, 20.0 + 5 * i, 3.5, 0.0, 1.0, 1.0, ""});
   }
   itp::scene::Scene s;

@@ -14,12 +14,12 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double sample_time(int k) { return 7.0 * k / kSpeedSamples; }
+double sample_time(int k) { return 7.0 * k / itp::DefaultConfig::kSpeedSamples; }
 
 // Open road at `limit` m/s: s_up is the furthest reachable s, ṡ_expect the limit.
 SpeedBounds open_road(double limit) {
   SpeedBounds b;
-  for (int k = 0; k <= kSpeedSamples; ++k) {
+  for (int k = 0; k <= itp::DefaultConfig::kSpeedSamples; ++k) {
     const auto u = static_cast<std::size_t>(k);
     b.s_lo[u] = 0;
     b.s_hi[u] = kInf;
@@ -45,7 +45,7 @@ void check_limits(const SpeedResult& r, const SpeedInput& in, const SpeedBounds&
   REQUIRE(itp::qp::is_usable(r.status));
   CHECK(r.eval(0, 0) == doctest::Approx(0));
   CHECK(r.eval(0, 1) == doctest::Approx(in.v0));
-  for (int k = 1; k <= kSpeedSamples; ++k) {
+  for (int k = 1; k <= itp::DefaultConfig::kSpeedSamples; ++k) {
     const double t = sample_time(k);
     const auto u = static_cast<std::size_t>(k);
     CHECK(r.eval(t, 0) <= b.s_hi[u] + 1e-6);
@@ -110,7 +110,7 @@ TEST_CASE("follow: a leader's s bound keeps the gap and the speed settles on the
   SpeedInput in;
   in.v0 = 12;
   SpeedBounds b = open_road(15);
-  for (int k = 0; k <= kSpeedSamples; ++k) {
+  for (int k = 0; k <= itp::DefaultConfig::kSpeedSamples; ++k) {
     const auto u = static_cast<std::size_t>(k);
     b.s_hi[u] = 30.0 + 8.0 * sample_time(k) - 15.0;  // leader at 30 m, 8 m/s, 15 m gap
     b.v_hi[u] = std::min(15.0, k > 40 ? 8.0 : 15.0);

@@ -13,7 +13,7 @@ using itp::decision::SlBox;
 
 namespace {
 
-double t_of(int k) { return 7.0 * k / kSpeedSamples; }
+double t_of(int k) { return 7.0 * k / itp::DefaultConfig::kSpeedSamples; }
 
 itp::path::PathResult straight_path() {
   itp::path::PathResult p;
@@ -27,7 +27,7 @@ itp::path::PathResult straight_path() {
 DynamicTrack mover(int id, double s, double l, double vs, double vl, double len, double wid) {
   DynamicTrack tr;
   tr.id = id;
-  for (int k = 0; k < kStSamples; ++k) {
+  for (int k = 0; k < itp::DefaultConfig::kStSamples; ++k) {
     const double t = t_of(k);
     SlBox b;
     b.s_min = s + vs * t - len / 2;
@@ -52,8 +52,8 @@ struct Run {
   void go(const std::vector<DynamicTrack>& tracks, double v0) {
     params.v0 = v0;
     params.limits.speed_limit = 15;
-    std::array<Scalar, kStSamples> s_guess{};
-    std::array<Scalar, kStSamples> v_guess{};
+    std::array<Scalar, itp::DefaultConfig::kStSamples> s_guess{};
+    std::array<Scalar, itp::DefaultConfig::kStSamples> v_guess{};
     reference_profile(params, 7.0, s_guess, v_guess);
     const auto path = straight_path();
     test_support::HeapGuard guard;
@@ -73,14 +73,14 @@ TEST_CASE("a slow leader in the lane is followed at a time gap, never closer") {
   REQUIRE(r.graph->decisions().size() == 1);
   CHECK(r.graph->decisions()[0].decision == Longitudinal::kFollow);
   REQUIRE(itp::qp::is_usable(r.speed.status));
-  for (int k = 0; k < kStSamples; ++k) {
+  for (int k = 0; k < itp::DefaultConfig::kStSamples; ++k) {
     const double t = t_of(k);
     const double leader_rear = 40 + 8 * t - 2.25;
     const double ego_front = r.speed.eval(t, 0) + r.params.front;
     CHECK(leader_rear - ego_front >= r.params.follow_distance - 1e-6);
   }
   // Closing speed only as large as braking can still absorb over the remaining gap.
-  for (int k = 0; k < kStSamples; ++k) {
+  for (int k = 0; k < itp::DefaultConfig::kStSamples; ++k) {
     const double t = t_of(k);
     const double v = r.speed.eval(t, 1);
     const double gap = (40 + 8 * t - 2.25) - (r.speed.eval(t, 0) + r.params.front) - r.params.follow_distance - 1.2 * 8;

@@ -1,6 +1,9 @@
 #pragma once
 // The one configuration header: every size, capacity and loop bound of the
-// planner derives from the constexpr values here. Raising a capacity is a
+// planner derives from the constexpr values here. The sizes form a
+// configuration type (Configuration<Sizes>, below) that the planner and its
+// stages are templated on; the constants in namespace config size nothing
+// (validation ranges, reference-line fit, link). Raising a capacity is a
 // rebuild, never a run-time allocation.
 #include <cstddef>
 #include <cstdint>
@@ -15,52 +18,13 @@ using Scalar = double;
 
 namespace config {
 
-// --- Planning horizon (paper, Table 1) ------------------------------------
-inline constexpr Scalar kPathLength = Scalar(100);       // [m] SL horizon
-inline constexpr Scalar kSpeedHorizon = Scalar(7);       // [s] ST horizon
-inline constexpr Scalar kTrajectoryStep = Scalar(0.1);   // [s] output sample step
-inline constexpr int kTrajectorySamples = 71;            // t = 0, 0.1, ..., 7.0 s
-
-// --- Scene capacities ------------------------------------------------------
-inline constexpr int kMaxReferencePoints = 128;          // reference-line polyline points
-inline constexpr int kMaxBoundaryPoints = 32;            // [s, l] pairs per road boundary
-inline constexpr int kMaxStaticObstacles = 10;
-inline constexpr int kMaxDynamicObstacles = 5;
-inline constexpr int kMaxPredictionSamples = 80;         // poses per dynamic obstacle
-
-// --- Convex space and decision (paper 1.1) ---------------------------------
-// Each obstacle contributes at most two cuts in s, hence at most 2N+1 slices.
-inline constexpr int kMaxObstacles = kMaxStaticObstacles + kMaxDynamicObstacles;
-inline constexpr int kMaxSlices = 2 * kMaxObstacles + 1;
-inline constexpr int kMaxZonesPerSlice = kMaxObstacles + 1;  // gaps between N intervals
-inline constexpr int kMaxZones = kMaxSlices * kMaxZonesPerSlice;
-inline constexpr int kKeptDecisions = 20;                // K best decisions evaluated
-// Decision-tree search: nodes (zone visits) expanded per cycle, at most. The
-// branch-and-bound search stops there and keeps the best K found so far.
-inline constexpr int kMaxTreeNodes = 4096;
-inline constexpr int kCoarseSamples = 20;                // coarse (l, t) samples per decision
-
-// --- Path and speed QPs (paper 1.2, 1.3) ------------------------------------
-inline constexpr int kPathBlocks = 20;                   // quintic SL blocks over kPathLength
-inline constexpr int kSpeedBlocks = 14;                  // quintic ST blocks over kSpeedHorizon
-inline constexpr int kKnotStates = 3;                    // (value, 1st, 2nd derivative) per knot
-inline constexpr int kPathVariables = (kPathBlocks + 1) * kKnotStates;    // 63
-inline constexpr int kSpeedVariables = (kSpeedBlocks + 1) * kKnotStates;  // 45
-
-// --- Iteration (paper 2) ----------------------------------------------------
-inline constexpr int kMaxPlannerIterations = 5;
-inline constexpr int kRememberedInfeasibleCorridors = 16;  // per cycle: path QPs not repeated on them
-inline constexpr int kMaxPathSolvesPerCycle = 16;          // path QP budget per cycle (bounds the worst case)
-inline constexpr int kPathQpMaxIterations = 60;            // path QP iteration cap (infeasible ones stop early)
-
 // --- Reference line and Frenet frame (docs/frenet.md) -------------------------
 // The smoothing spline is fitted through the polyline plus up to
 // kReferenceEndMirror points mirrored at each end, covering at least
 // kReferenceMirrorLength (so the natural end condition, kappa = 0, acts far
 // from the real ends and does not flatten their curvature).
 inline constexpr int kReferenceEndMirror = 16;
-inline constexpr Scalar kReferenceMirrorLength = Scalar(15);   // [m] ~7 smoothing bandwidths
-inline constexpr int kMaxReferenceKnots = kMaxReferencePoints + 2 * kReferenceEndMirror;
+inline constexpr Scalar kReferenceMirrorLength = Scalar(15);    // [m] ~7 smoothing bandwidths
 inline constexpr Scalar kReferenceSmoothing = Scalar(16);       // [m^3] spline penalty lambda
                                                                 // (bandwidth lambda^(1/4) = 2 m)
 inline constexpr Scalar kMinReferencePointSpacing = Scalar(0.05);  // [m] closer = repeated point
@@ -87,11 +51,107 @@ inline constexpr Scalar kMaxEgoOffsetFromReference = Scalar(10);  // [m] ego to 
 inline constexpr std::size_t kMaxPayloadBytes = 32768;   // one message body (a path QP or a scene)
 inline constexpr std::size_t kBuildIdBytes = 48;         // fixed field in Pong
 
-static_assert(kTrajectorySamples ==
-              static_cast<int>(kSpeedHorizon / kTrajectoryStep + Scalar(0.5)) + 1,
-              "trajectory samples must cover the speed horizon");
-static_assert(kPathVariables == 63 && kSpeedVariables == 45,
+}  // namespace config
+
+// --- A planner configuration ----------------------------------------------
+// The planner and every stage that owns memory are class templates on a
+// configuration type (BasicPlanner<Cfg>, ...). A configuration is
+// Configuration<Sizes>: Sizes holds the primary sizes (derive from
+// DefaultSizes and override what differs), Configuration adds everything
+// that follows from them and checks them, so derived sizes can never
+// disagree with the primary ones. The library is compiled for the
+// configurations listed in itp/configurations.hpp.
+struct DefaultSizes {
+  // Planning horizon (paper, Table 1)
+  static constexpr Scalar kPathLength = Scalar(100);      // [m] SL horizon
+  static constexpr Scalar kSpeedHorizon = Scalar(7);      // [s] ST horizon
+  static constexpr Scalar kTrajectoryStep = Scalar(0.1);  // [s] output sample step
+
+  // Scene capacities
+  static constexpr int kMaxReferencePoints = 128;  // reference-line polyline points
+  static constexpr int kMaxBoundaryPoints = 32;    // [s, l] pairs per road boundary
+  static constexpr int kMaxStaticObstacles = 10;
+  static constexpr int kMaxDynamicObstacles = 5;
+  static constexpr int kMaxPredictionSamples = 80;  // poses per dynamic obstacle
+
+  // Convex space and decision (paper 1.1)
+  static constexpr int kKeptDecisions = 20;  // K best decisions evaluated
+  // Decision-tree search: nodes (zone visits) expanded per cycle, at most. The
+  // branch-and-bound search stops there and keeps the best K found so far.
+  static constexpr int kMaxTreeNodes = 4096;
+  static constexpr int kCoarseSamples = 20;  // coarse (l, t) samples per decision
+
+  // Path and speed QPs (paper 1.2, 1.3)
+  static constexpr int kPathBlocks = 20;   // quintic SL blocks over kPathLength
+  static constexpr int kSpeedBlocks = 14;  // quintic ST blocks over kSpeedHorizon
+
+  // Iteration (paper 2) and the per-cycle budgets that bound the worst case
+  static constexpr int kMaxPlannerIterations = 5;
+  static constexpr int kRememberedInfeasibleCorridors = 16;  // path QPs not repeated on them
+  static constexpr int kMaxPathSolvesPerCycle = 16;          // path QP budget per cycle
+  static constexpr int kPathQpMaxIterations = 60;            // path QP iteration cap
+};
+
+template <class Sizes>
+struct Configuration : Sizes {
+  using Sizes::kMaxReferencePoints, Sizes::kMaxStaticObstacles, Sizes::kMaxDynamicObstacles;
+  using Sizes::kPathBlocks, Sizes::kSpeedBlocks, Sizes::kKeptDecisions;
+  using Sizes::kPathLength, Sizes::kSpeedHorizon, Sizes::kTrajectoryStep;
+
+  // t = 0, step, ..., horizon
+  static constexpr int kTrajectorySamples =
+      static_cast<int>(kSpeedHorizon / kTrajectoryStep + Scalar(0.5)) + 1;
+  // Each obstacle contributes at most two cuts in s, hence at most 2N+1 slices.
+  static constexpr int kMaxObstacles = kMaxStaticObstacles + kMaxDynamicObstacles;
+  static constexpr int kMaxSlices = 2 * kMaxObstacles + 1;
+  static constexpr int kMaxZonesPerSlice = kMaxObstacles + 1;  // gaps between N intervals
+  static constexpr int kMaxZones = kMaxSlices * kMaxZonesPerSlice;
+  static constexpr int kKnotStates = 3;  // (value, 1st, 2nd derivative) per knot
+  static constexpr int kPathVariables = (kPathBlocks + 1) * kKnotStates;
+  static constexpr int kSpeedVariables = (kSpeedBlocks + 1) * kKnotStates;
+  // Reference line: the polyline plus the points mirrored at each end.
+  static constexpr int kMaxReferenceKnots = kMaxReferencePoints + 2 * config::kReferenceEndMirror;
+  // kappa_ref(s) sampled every metre over the SL horizon.
+  static constexpr int kCurvatureSamples = static_cast<int>(kPathLength + Scalar(0.5)) + 1;
+  // Path QP: 5 samples per block, each with 4 rows (front and rear corridor, l', l'').
+  static constexpr int kPathKnots = kPathBlocks + 1;
+  static constexpr int kPathSamplesPerBlock = 5;
+  static constexpr int kPathRowsPerSample = 4;
+  static constexpr int kPathQpRows = kPathRowsPerSample * kPathSamplesPerBlock * kPathBlocks;
+  // Speed QP: 5 samples per block, each with 3 rows (s, s', s''). The ST
+  // graph and the speed bounds use the same samples, t_k = k horizon / kSpeedSamples.
+  static constexpr int kSpeedKnots = kSpeedBlocks + 1;
+  static constexpr int kSpeedSamplesPerBlock = 5;
+  static constexpr int kSpeedSamples = kSpeedSamplesPerBlock * kSpeedBlocks;
+  static constexpr int kStSamples = kSpeedSamples + 1;  // k = 0..kSpeedSamples
+  static constexpr int kSpeedQpRows = 3 * kSpeedSamples;
+  // Coarse decision QP: (l_i, t_i) at every coarse sample, one monotone-time row each.
+  static constexpr int kCoarseQpVariables = 2 * Sizes::kCoarseSamples;
+  static constexpr int kCoarseQpRows = Sizes::kCoarseSamples;
+
+  static_assert(kPathLength >= Scalar(20) && kSpeedHorizon >= Scalar(1) && kTrajectoryStep > 0,
+                "horizons too short to plan in");
+  static_assert(kMaxReferencePoints >= 2 && Sizes::kMaxBoundaryPoints >= 1 &&
+                    Sizes::kMaxPredictionSamples >= 1 && kMaxStaticObstacles >= 0 &&
+                    kMaxDynamicObstacles >= 0,
+                "bad scene capacities");
+  static_assert(kMaxZonesPerSlice <= 16, "zone successors are a 16-bit mask");
+  static_assert(kMaxZones < 32767 && kMaxObstacles < 32767, "zone and box indices are int16");
+  static_assert(kKeptDecisions >= 1 && Sizes::kMaxTreeNodes >= kMaxSlices &&
+                    Sizes::kCoarseSamples >= 3,
+                "bad decision sizes");
+  static_assert(kPathBlocks >= 2 && kSpeedBlocks >= 2, "at least two QP blocks");
+  static_assert(Sizes::kMaxPlannerIterations >= 1 && Sizes::kMaxPathSolvesPerCycle >= 1 &&
+                    Sizes::kPathQpMaxIterations >= 1,
+                "budgets must allow one solve");
+};
+
+// The default build: the paper's envelope (10 static + 5 dynamic obstacles,
+// 100 m, 7 s).
+using DefaultConfig = Configuration<DefaultSizes>;
+static_assert(DefaultConfig::kTrajectorySamples == 71, "plan/1 documents 71 samples over 7 s");
+static_assert(DefaultConfig::kPathVariables == 63 && DefaultConfig::kSpeedVariables == 45 &&
+                  DefaultConfig::kPathQpRows == 400 && DefaultConfig::kSpeedQpRows == 210,
               "QP shapes documented in docs/ assume these sizes");
 
-}  // namespace config
 }  // namespace itp

@@ -1,17 +1,18 @@
 #include "itp/decision/coarse_evaluation.hpp"
 
-#include "itp/decision/corridor.hpp"
-#include "itp/qp/hot_or_cold.hpp"
-
 #include <cmath>
 #include <limits>
+
+#include "itp/configurations.hpp"
+#include "itp/decision/corridor.hpp"
+#include "itp/qp/hot_or_cold.hpp"
 
 namespace itp::decision {
 namespace {
 
-constexpr int kN = config::kCoarseSamples;
 constexpr int kSubSteps = 4;                       // kinematic pass: sub-steps per sample interval
-constexpr int kFine = (kN - 1) * kSubSteps + 1;    // points of the kinematic pass
+template <class Cfg>
+constexpr int kFine = (Cfg::kCoarseSamples - 1) * kSubSteps + 1;  // points of the kinematic pass
 constexpr Scalar kMinSpeed = Scalar(0.1);          // [m/s] floor when integrating 1/v
 constexpr Scalar kKappaFloor = Scalar(1e-4);       // [1/m] below this, no curvature speed limit
 
@@ -21,12 +22,14 @@ constexpr int t_var(int i) { return 2 * i + 1; }
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
 
-void add_hessian(qp::QpProblem<CoarseDims>& p, int i, int j, Scalar v) {
+template <class D>
+void add_hessian(qp::QpProblem<D>& p, int i, int j, Scalar v) {
   static_cast<void>(p.set_hessian(i, j, p.hessian(i, j) + v));
 }
 
 // Adds w (x_a - 2 x_b + x_c)² to H.
-void add_second_difference(qp::QpProblem<CoarseDims>& p, int a, int b, int c, Scalar w) {
+template <class D>
+void add_second_difference(qp::QpProblem<D>& p, int a, int b, int c, Scalar w) {
   const int idx[3] = {a, b, c};
   const Scalar coef[3] = {Scalar(1), Scalar(-2), Scalar(1)};
   for (int r = 0; r < 3; ++r) {    // 3 x 3 outer product
@@ -64,11 +67,12 @@ Moments moments(const Scalar* v, int n) {
 
 }  // namespace
 
-void earliest_arrival(const CoarseInput& in, Scalar s0, Scalar ds, int count, bool stop_at_end,
-                      Scalar* t_lb) {
+template <class Cfg>
+void earliest_arrival(const BasicCoarseInput<Cfg>& in, Scalar s0, Scalar ds, int count,
+                      bool stop_at_end, Scalar* t_lb) {
   const int fine = (count - 1) * kSubSteps + 1;
   const Scalar h = ds / static_cast<Scalar>(kSubSteps);
-  std::array<Scalar, kFine> v{};
+  std::array<Scalar, kFine<Cfg>> v{};
   for (int j = 0; j < fine; ++j) {  // <= kFine: the speed each point allows
     const Scalar s = s0 + h * static_cast<Scalar>(j);
     const Scalar kappa = in.kappa_ref != nullptr ? std::fabs(in.kappa_ref->at(s)) : Scalar(0);
@@ -105,8 +109,9 @@ void earliest_arrival(const CoarseInput& in, Scalar s0, Scalar ds, int count, bo
   }
 }
 
-bool CoarseEvaluator::sample_corridor(const ConvexSpace& space, const Decision& decision,
-                                      const CoarseInput& in, CoarseResult& out) const {
+template <class Cfg>
+bool BasicCoarseEvaluator<Cfg>::sample_corridor(const ConvexSpace& space, const Decision& decision,
+                                                const CoarseInput& in, CoarseResult& out) const {
   const Scalar s0 = space.s_start;
   const Scalar s_last = decision.reaches_end
                             ? space.s_end
@@ -130,7 +135,9 @@ bool CoarseEvaluator::sample_corridor(const ConvexSpace& space, const Decision& 
   return true;
 }
 
-void CoarseEvaluator::build_qp(const CoarseInput& in, const CoarseWeights& w, const CoarseResult& out) {
+template <class Cfg>
+void BasicCoarseEvaluator<Cfg>::build_qp(const CoarseInput& in, const CoarseWeights& w,
+                                         const CoarseResult& out) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
   static_cast<void>(problem_.reset(2 * kN, kN - 1));
   for (int i = 0; i < kN; ++i) {  // kCoarseSamples
@@ -160,11 +167,12 @@ void CoarseEvaluator::build_qp(const CoarseInput& in, const CoarseWeights& w, co
   }
 }
 
-void CoarseEvaluator::score(const Decision& decision, const CoarseInput& in, const CoarseWeights& w,
-                            CoarseResult& out) const {
-  std::array<Scalar, kN> kappa{};
-  std::array<Scalar, kN> a_lat{};
-  std::array<Scalar, kN> a_lon{};
+template <class Cfg>
+void BasicCoarseEvaluator<Cfg>::score(const Decision& decision, const CoarseInput& in,
+                                      const CoarseWeights& w, CoarseResult& out) const {
+  std::array<Scalar, Cfg::kCoarseSamples> kappa{};
+  std::array<Scalar, Cfg::kCoarseSamples> a_lat{};
+  std::array<Scalar, Cfg::kCoarseSamples> a_lon{};
   const Scalar ds = out.ds;
   int count = 0;
   for (int i = 1; i + 1 < kN; ++i) {  // interior samples
@@ -196,8 +204,10 @@ void CoarseEvaluator::score(const Decision& decision, const CoarseInput& in, con
   out.decision_cost = decision.geometric_cost + out.path_cost + out.dynamic_cost;
 }
 
-void CoarseEvaluator::evaluate(const ConvexSpace& space, const Decision& decision,
-                               const CoarseInput& in, const CoarseWeights& w, CoarseResult& out) {
+template <class Cfg>
+void BasicCoarseEvaluator<Cfg>::evaluate(const ConvexSpace& space, const Decision& decision,
+                                         const CoarseInput& in, const CoarseWeights& w,
+                                         CoarseResult& out) {
   out = CoarseResult{};
   if (decision.zones.empty() || !sample_corridor(space, decision, in, out)) {
     out.status = qp::QpStatus::kInvalidInput;
@@ -226,5 +236,12 @@ void CoarseEvaluator::evaluate(const ConvexSpace& space, const Decision& decisio
   }
   score(decision, in, w, out);
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                \
+  template class BasicCoarseEvaluator<C>; \
+  template void earliest_arrival<C>(const BasicCoarseInput<C>&, Scalar, Scalar, int, bool, Scalar*);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::decision

@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 
+#include "itp/configurations.hpp"
+
 namespace itp::decision {
 namespace {
 
@@ -11,7 +13,8 @@ namespace {
 // sliver of free road between two obstacles, so such a slice must not link
 // zones that the path could never connect.
 constexpr Scalar kMinSliceLength = Scalar(2.0);  // [m]
-constexpr int kMaxCuts = 2 * config::kMaxObstacles + 2;
+template <class Cfg>
+constexpr int kMaxCuts = 2 * Cfg::kMaxObstacles + 2;
 
 bool finite_box(const SlBox& b) {
   return std::isfinite(b.s_min) && std::isfinite(b.s_max) && std::isfinite(b.l_min) &&
@@ -21,8 +24,9 @@ bool finite_box(const SlBox& b) {
 Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
 // Sorted, de-duplicated cut positions in s: the slice edges.
+template <class Cfg>
 int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
-                 std::array<Scalar, kMaxCuts>& cuts) {
+                 std::array<Scalar, kMaxCuts<Cfg>>& cuts) {
   int n = 0;
   cuts[static_cast<std::size_t>(n++)] = s0;
   for (const SlBox& b : boxes) {  // <= kMaxObstacles
@@ -62,10 +66,11 @@ struct Interval {
 };
 
 // Free gaps of [road_lo, road_hi] between the boxes overlapping [sa, sb).
+template <class Cfg>
 void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
                      Scalar road_hi, const ConvexSpaceParams& params, std::int16_t slice_index,
-                     ConvexSpace& out) {
-  std::array<Interval, config::kMaxObstacles> blocked{};
+                     BasicConvexSpace<Cfg>& out) {
+  std::array<Interval, Cfg::kMaxObstacles> blocked{};
   int n = 0;
   for (std::size_t i = 0; i < boxes.size(); ++i) {  // <= kMaxObstacles
     const SlBox& b = boxes[i];
@@ -92,7 +97,7 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
     const bool last = i == n;
     const Scalar gap_hi = last ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
     const std::int16_t gap_hi_box = last ? kRoadEdge : blocked[static_cast<std::size_t>(i)].box;
-    if (gap_hi - cursor >= params.vehicle_width && slice.zone_count < config::kMaxZonesPerSlice) {
+    if (gap_hi - cursor >= params.vehicle_width && slice.zone_count < Cfg::kMaxZonesPerSlice) {
       Zone z;
       z.slice = slice_index;
       z.s_begin = sa;
@@ -112,7 +117,8 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
   static_cast<void>(out.slices.push_back(slice));
 }
 
-void compute_zone_costs(const RoadSl& road, ConvexSpace& out) {
+template <class Cfg>
+void compute_zone_costs(const BasicRoadSl<Cfg>& road, BasicConvexSpace<Cfg>& out) {
   Scalar area_max = 0;
   for (const Zone& z : out.zones) {  // <= kMaxZones
     const Scalar area = (z.s_end - z.s_begin) * z.width();
@@ -130,7 +136,8 @@ void compute_zone_costs(const RoadSl& road, ConvexSpace& out) {
   }
 }
 
-void link_zones(ConvexSpace& out) {
+template <class Cfg>
+void link_zones(BasicConvexSpace<Cfg>& out) {
   for (std::size_t i = 0; i + 1 < out.slices.size(); ++i) {  // < kMaxSlices
     const Slice& a = out.slices[i];
     const Slice& b = out.slices[i + 1];
@@ -138,7 +145,7 @@ void link_zones(ConvexSpace& out) {
       Zone& from = out.zones[static_cast<std::size_t>(a.first_zone + za)];
       for (int zb = 0; zb < b.zone_count; ++zb) {  // <= kMaxZonesPerSlice
         const Zone& to = out.zones[static_cast<std::size_t>(b.first_zone + zb)];
-        if (ConvexSpace::overlap(from, to) >= out.vehicle_width) {
+        if (BasicConvexSpace<Cfg>::overlap(from, to) >= out.vehicle_width) {
           from.successors = static_cast<std::uint16_t>(from.successors | (1u << zb));
         }
       }
@@ -157,19 +164,22 @@ const char* to_string(ConvexSpaceStatus status) {
   return "unknown";
 }
 
-Scalar ConvexSpace::overlap(const Zone& a, const Zone& b) {
+template <class Cfg>
+Scalar BasicConvexSpace<Cfg>::overlap(const Zone& a, const Zone& b) {
   const Scalar lo = a.l_min > b.l_min ? a.l_min : b.l_min;
   const Scalar hi = a.l_max < b.l_max ? a.l_max : b.l_max;
   return hi - lo;
 }
 
-const Zone& ConvexSpace::successor(const Zone& z, int bit) const {
+template <class Cfg>
+const Zone& BasicConvexSpace<Cfg>::successor(const Zone& z, int bit) const {
   const Slice& next = slices[static_cast<std::size_t>(z.slice + 1)];
   return zones[static_cast<std::size_t>(next.first_zone + bit)];
 }
 
-ConvexSpaceStatus build_convex_space(const RoadSl& road, std::span<const SlBox> boxes,
-                                     const ConvexSpaceParams& params, ConvexSpace& out) {
+template <class Cfg>
+ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes,
+                                     const ConvexSpaceParams& params, BasicConvexSpace<Cfg>& out) {
   out.slices.clear();
   out.zones.clear();
   out.start_zone = -1;
@@ -177,9 +187,9 @@ ConvexSpaceStatus build_convex_space(const RoadSl& road, std::span<const SlBox> 
   out.s_end = params.s_end;
   out.vehicle_width = params.vehicle_width;
   if (!(params.s_end > params.s_start) || !std::isfinite(params.s_start) ||
-      !std::isfinite(params.s_end) || !(params.vehicle_width > 0) ||
-      !std::isfinite(params.ego_l) || boxes.size() > static_cast<std::size_t>(config::kMaxObstacles) ||
-      road.left.empty() || road.right.empty()) {
+      !std::isfinite(params.s_end) || !(params.vehicle_width > 0) || !std::isfinite(params.ego_l) ||
+      boxes.size() > static_cast<std::size_t>(Cfg::kMaxObstacles) || road.left.empty() ||
+      road.right.empty()) {
     return ConvexSpaceStatus::kInvalidInput;
   }
   for (const SlBox& b : boxes) {  // <= kMaxObstacles
@@ -187,8 +197,8 @@ ConvexSpaceStatus build_convex_space(const RoadSl& road, std::span<const SlBox> 
       return ConvexSpaceStatus::kInvalidInput;
     }
   }
-  std::array<Scalar, kMaxCuts> cuts{};
-  const int n_cuts = collect_cuts(boxes, params.s_start, params.s_end, cuts);
+  std::array<Scalar, kMaxCuts<Cfg>> cuts{};
+  const int n_cuts = collect_cuts<Cfg>(boxes, params.s_start, params.s_end, cuts);
   for (int i = 0; i + 1 < n_cuts; ++i) {  // < kMaxSlices
     const Scalar sa = cuts[static_cast<std::size_t>(i)];
     const Scalar sb = cuts[static_cast<std::size_t>(i + 1)];
@@ -214,5 +224,14 @@ ConvexSpaceStatus build_convex_space(const RoadSl& road, std::span<const SlBox> 
   }
   return out.start_zone < 0 ? ConvexSpaceStatus::kNoStartZone : ConvexSpaceStatus::kOk;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                                                        \
+  template struct BasicConvexSpace<C>;                                                            \
+  template ConvexSpaceStatus build_convex_space<C>(const BasicRoadSl<C>&, std::span<const SlBox>, \
+                                                   const ConvexSpaceParams&,                      \
+                                                   BasicConvexSpace<C>&);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::decision

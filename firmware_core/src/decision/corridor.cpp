@@ -1,5 +1,7 @@
 #include "itp/decision/corridor.hpp"
 
+#include "itp/configurations.hpp"
+
 namespace itp::decision {
 namespace {
 constexpr Scalar kSliceEps = Scalar(1e-6);  // [m] a sample on a slice edge belongs to both
@@ -17,7 +19,9 @@ Scalar zone_reference(const Zone& zone, Scalar l_target, Scalar half_width) {
   return l_target < lo ? lo : (l_target > hi ? hi : l_target);
 }
 
-LateralInterval corridor_at(const ConvexSpace& space, const Decision& decision, Scalar s) {
+template <class Cfg>
+LateralInterval corridor_at(const BasicConvexSpace<Cfg>& space, const BasicDecision<Cfg>& decision,
+                            Scalar s) {
   LateralInterval out;
   bool found = false;
   for (std::int16_t zi : decision.zones) {  // <= kMaxSlices
@@ -41,5 +45,12 @@ LateralInterval corridor_at(const ConvexSpace& space, const Decision& decision, 
   }
   return out;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                                                     \
+  template LateralInterval corridor_at<C>(const BasicConvexSpace<C>&, const BasicDecision<C>&, \
+                                          Scalar);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::decision

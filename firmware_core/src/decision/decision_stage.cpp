@@ -1,5 +1,7 @@
 #include "itp/decision/decision_stage.hpp"
 
+#include "itp/configurations.hpp"
+
 namespace itp::decision {
 
 const char* to_string(DecisionStatus status) {
@@ -12,9 +14,11 @@ const char* to_string(DecisionStatus status) {
   return "unknown";
 }
 
-DecisionStatus DecisionStage::run(const RoadSl& road, std::span<const SlBox> boxes,
-                                  const ConvexSpaceParams& params, const CoarseInput& input,
-                                  const DecisionWeights& weights) {
+template <class Cfg>
+DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const SlBox> boxes,
+                                            const ConvexSpaceParams& params,
+                                            const CoarseInput& input,
+                                            const DecisionWeights& weights) {
   best_ = -1;
   set_.kept.clear();
   const ConvexSpaceStatus cs = build_convex_space(road, boxes, params, space_);
@@ -41,5 +45,10 @@ DecisionStatus DecisionStage::run(const RoadSl& road, std::span<const SlBox> box
   return set_.kept[static_cast<std::size_t>(best_)].reaches_end ? DecisionStatus::kOk
                                                                : DecisionStatus::kBlocked;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) template class BasicDecisionStage<C>;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::decision

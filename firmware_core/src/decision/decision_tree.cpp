@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 
+#include "itp/configurations.hpp"
+
 namespace itp::decision {
 namespace {
 
@@ -22,7 +24,8 @@ Scalar zone_cost(const Zone& z, const GeometricWeights& w) {
 Scalar mid(Scalar a, Scalar b) { return Scalar(0.5) * (a + b); }
 
 // Keeps `kept` sorted ascending; equal costs keep the earlier path first.
-void offer(DecisionSet& out, const Decision& d) {
+template <class Cfg>
+void offer(BasicDecisionSet<Cfg>& out, const BasicDecision<Cfg>& d) {
   auto& kept = out.kept;
   if (kept.full() && !(d.geometric_cost < kept.back().geometric_cost)) {
     return;
@@ -35,7 +38,7 @@ void offer(DecisionSet& out, const Decision& d) {
     if (!(kept[i].geometric_cost < kept[i - 1].geometric_cost)) {
       break;
     }
-    const Decision tmp = kept[i];
+    const BasicDecision<Cfg> tmp = kept[i];
     kept[i] = kept[i - 1];
     kept[i - 1] = tmp;
   }
@@ -43,7 +46,9 @@ void offer(DecisionSet& out, const Decision& d) {
 
 }  // namespace
 
-void enumerate_decisions(const ConvexSpace& space, const GeometricWeights& w, DecisionSet& out) {
+template <class Cfg>
+void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeights& w,
+                         BasicDecisionSet<Cfg>& out) {
   out.kept.clear();
   out.nodes_expanded = 0;
   out.complete_paths = 0;
@@ -52,7 +57,7 @@ void enumerate_decisions(const ConvexSpace& space, const GeometricWeights& w, De
     return;
   }
   const Scalar horizon = space.s_end - space.s_start;
-  std::array<Frame, config::kMaxSlices> stack{};
+  std::array<Frame, Cfg::kMaxSlices> stack{};
   int depth = 0;
   {
     const Zone& z0 = space.zones[static_cast<std::size_t>(space.start_zone)];
@@ -63,14 +68,14 @@ void enumerate_decisions(const ConvexSpace& space, const GeometricWeights& w, De
   out.nodes_expanded = 1;
   // Each pass either descends, backtracks or records a leaf; the node budget
   // bounds the descents, and backtracks never exceed descents + 1.
-  for (int guard = 0; guard < 2 * config::kMaxTreeNodes + 2 && depth >= 0; ++guard) {
+  for (int guard = 0; guard < 2 * Cfg::kMaxTreeNodes + 2 && depth >= 0; ++guard) {
     Frame& f = stack[static_cast<std::size_t>(depth)];
     const Zone& z = space.zones[static_cast<std::size_t>(f.zone)];
     const bool pruned = out.kept.full() && !(f.cost < out.kept.back().geometric_cost);
     if (f.next_bit == 0 && (z.successors == 0u || pruned)) {
       if (!pruned) {
         // Leaf: close the centre line to the zone's end and record the decision.
-        Decision d;
+        BasicDecision<Cfg> d;
         for (int i = 0; i <= depth; ++i) {  // <= kMaxSlices
           static_cast<void>(d.zones.push_back(stack[static_cast<std::size_t>(i)].zone));
         }
@@ -92,21 +97,21 @@ void enumerate_decisions(const ConvexSpace& space, const GeometricWeights& w, De
     }
     // Next successor of this zone, if any is left.
     int bit = f.next_bit;
-    while (bit < config::kMaxZonesPerSlice && (z.successors & (1u << bit)) == 0u) {
+    while (bit < Cfg::kMaxZonesPerSlice && (z.successors & (1u << bit)) == 0u) {
       ++bit;
     }
-    if (bit >= config::kMaxZonesPerSlice || pruned) {
+    if (bit >= Cfg::kMaxZonesPerSlice || pruned) {
       --depth;
       continue;
     }
     f.next_bit = static_cast<std::int8_t>(bit + 1);
-    if (out.nodes_expanded >= config::kMaxTreeNodes) {
+    if (out.nodes_expanded >= Cfg::kMaxTreeNodes) {
       out.truncated = true;
       break;
     }
     ++out.nodes_expanded;
     const Zone& c = space.successor(z, bit);
-    const Scalar ov = ConvexSpace::overlap(z, c);
+    const Scalar ov = BasicConvexSpace<Cfg>::overlap(z, c);
     // The centre line crosses the slice edge in the middle of the overlap.
     const Scalar l_cross = mid(z.l_min > c.l_min ? z.l_min : c.l_min, z.l_max < c.l_max ? z.l_max : c.l_max);
     const Scalar ds = c.s_begin - f.s_anchor;
@@ -126,7 +131,9 @@ void enumerate_decisions(const ConvexSpace& space, const GeometricWeights& w, De
   }
 }
 
-Side side_of(const ConvexSpace& space, const Decision& decision, const SlBox& box) {
+template <class Cfg>
+Side side_of(const BasicConvexSpace<Cfg>& space, const BasicDecision<Cfg>& decision,
+             const SlBox& box) {
   for (std::int16_t zi : decision.zones) {  // <= kMaxSlices
     const Zone& z = space.zones[static_cast<std::size_t>(zi)];
     if (z.s_end <= box.s_min || z.s_begin >= box.s_max) {
@@ -141,5 +148,13 @@ Side side_of(const ConvexSpace& space, const Decision& decision, const SlBox& bo
   }
   return Side::kNotReached;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                                                  \
+  template void enumerate_decisions<C>(const BasicConvexSpace<C>&, const GeometricWeights&, \
+                                       BasicDecisionSet<C>&);                               \
+  template Side side_of<C>(const BasicConvexSpace<C>&, const BasicDecision<C>&, const SlBox&);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::decision

@@ -1,21 +1,26 @@
 #include "itp/decision/road_sl.hpp"
 
+#include "itp/configurations.hpp"
+
 namespace itp::decision {
 
-LateralProfile LateralProfile::constant(Scalar l) {
-  LateralProfile p;
+template <class Cfg>
+BasicLateralProfile<Cfg> BasicLateralProfile<Cfg>::constant(Scalar l) {
+  BasicLateralProfile p;
   static_cast<void>(p.add(Scalar(0), l));
   return p;
 }
 
-bool LateralProfile::add(Scalar s, Scalar l) {
+template <class Cfg>
+bool BasicLateralProfile<Cfg>::add(Scalar s, Scalar l) {
   if (!points_.empty() && !(s > points_.back().s)) {
     return false;
   }
   return points_.push_back(Point{s, l});
 }
 
-Scalar LateralProfile::at(Scalar s) const {
+template <class Cfg>
+Scalar BasicLateralProfile<Cfg>::at(Scalar s) const {
   const std::size_t n = points_.size();
   if (n == 0) {
     return Scalar(0);
@@ -34,7 +39,8 @@ Scalar LateralProfile::at(Scalar s) const {
   return points_[n - 1].l;
 }
 
-Scalar LateralProfile::min_over(Scalar s0, Scalar s1) const {
+template <class Cfg>
+Scalar BasicLateralProfile<Cfg>::min_over(Scalar s0, Scalar s1) const {
   Scalar m = at(s0) < at(s1) ? at(s0) : at(s1);
   for (const Point& p : points_) {  // kMaxBoundaryPoints
     if (p.s > s0 && p.s < s1 && p.l < m) {
@@ -44,7 +50,8 @@ Scalar LateralProfile::min_over(Scalar s0, Scalar s1) const {
   return m;
 }
 
-Scalar LateralProfile::max_over(Scalar s0, Scalar s1) const {
+template <class Cfg>
+Scalar BasicLateralProfile<Cfg>::max_over(Scalar s0, Scalar s1) const {
   Scalar m = at(s0) > at(s1) ? at(s0) : at(s1);
   for (const Point& p : points_) {  // kMaxBoundaryPoints
     if (p.s > s0 && p.s < s1 && p.l > m) {
@@ -53,5 +60,10 @@ Scalar LateralProfile::max_over(Scalar s0, Scalar s1) const {
   }
   return m;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) template class BasicLateralProfile<C>;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::decision

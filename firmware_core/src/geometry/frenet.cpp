@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "itp/configurations.hpp"
 #include "itp/geometry/angle.hpp"
 
 namespace itp::geometry {
@@ -20,7 +21,8 @@ Scalar heading_from_lateral_slope(Scalar l_prime, Scalar ref_heading, Scalar ref
   return wrap_angle(ref_heading + std::atan2(l_prime, Scalar(1) - ref_kappa * l));
 }
 
-SLBox sl_bounding_box(const ReferenceLine& line, const OrientedBox& box, Scalar margin) {
+template <class Cfg>
+SLBox sl_bounding_box(const BasicReferenceLine<Cfg>& line, const OrientedBox& box, Scalar margin) {
   const Point2 along{std::cos(box.heading), std::sin(box.heading)};
   const Point2 across{-along.y, along.x};
   const Scalar hl = box.length / Scalar(2);
@@ -53,5 +55,11 @@ SLBox sl_bounding_box(const ReferenceLine& line, const OrientedBox& box, Scalar 
   out.l_max += margin;
   return out;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) \
+  template SLBox sl_bounding_box<C>(const BasicReferenceLine<C>&, const OrientedBox&, Scalar);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::geometry

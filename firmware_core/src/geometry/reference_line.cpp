@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "itp/configurations.hpp"
 #include "itp/geometry/angle.hpp"
 #include "reference_line_spline.hpp"
 
@@ -14,8 +15,9 @@ namespace itp::geometry {
 namespace {
 
 // Bisection over at most kMaxReferenceKnots entries needs this many halvings.
+template <class Cfg>
 constexpr int kSearchSteps =
-    static_cast<int>(std::bit_width(static_cast<unsigned>(config::kMaxReferenceKnots))) + 1;
+    static_cast<int>(std::bit_width(static_cast<unsigned>(Cfg::kMaxReferenceKnots))) + 1;
 
 // Signed curvature [1/m] of the circle through three points (0 if collinear).
 Scalar menger_curvature(Point2 a, Point2 b, Point2 c) {
@@ -40,10 +42,11 @@ Point2 mirror_about_normal(Point2 origin, Point2 tangent, Point2 p) {
 
 }  // namespace
 
-ReferenceLineStatus ReferenceLine::build(std::span<const Point2> polyline,
-                                         SmoothingSplineWorkspace& ws) {
+template <class Cfg>
+ReferenceLineStatus BasicReferenceLine<Cfg>::build(std::span<const Point2> polyline,
+                                                   BasicSmoothingSplineWorkspace<Cfg>& ws) {
   valid_ = false;
-  const ReferenceLineStatus check = check_reference_polyline(polyline);
+  const ReferenceLineStatus check = check_reference_polyline<Cfg>(polyline);
   if (check != ReferenceLineStatus::kOk) {
     return check;
   }
@@ -81,7 +84,7 @@ ReferenceLineStatus ReferenceLine::build(std::span<const Point2> polyline,
     ++knots_;
   }
   first_ = knots_;
-  for (int i = 0; i < config::kMaxReferencePoints && i < n; ++i) {
+  for (int i = 0; i < Cfg::kMaxReferencePoints && i < n; ++i) {
     x_[knots_] = pt(i).x;
     y_[knots_] = pt(i).y;
     ++knots_;
@@ -98,10 +101,10 @@ ReferenceLineStatus ReferenceLine::build(std::span<const Point2> polyline,
   // chords (so the smoothing does not depend on the sampling density). The
   // weights live in s_ until the arc lengths overwrite them.
   t_[0] = Scalar(0);
-  for (int i = 1; i < config::kMaxReferenceKnots && i < knots_; ++i) {
+  for (int i = 1; i < Cfg::kMaxReferenceKnots && i < knots_; ++i) {
     t_[i] = t_[i - 1] + norm(Point2{x_[i] - x_[i - 1], y_[i] - y_[i - 1]});
   }
-  for (int i = 0; i < config::kMaxReferenceKnots && i < knots_; ++i) {
+  for (int i = 0; i < Cfg::kMaxReferenceKnots && i < knots_; ++i) {
     const Scalar left = i > 0 ? t_[i] - t_[i - 1] : Scalar(0);
     const Scalar right = i + 1 < knots_ ? t_[i + 1] - t_[i] : Scalar(0);
     s_[i] = (left + right) / Scalar(2);
@@ -120,7 +123,7 @@ ReferenceLineStatus ReferenceLine::build(std::span<const Point2> polyline,
 
   // Arc length at the knots, s = 0 at the first polyline point.
   s_[first_] = Scalar(0);
-  for (int i = first_ + 1; i < config::kMaxReferenceKnots && i < knots_; ++i) {
+  for (int i = first_ + 1; i < Cfg::kMaxReferenceKnots && i < knots_; ++i) {
     s_[i] = s_[i - 1] + arc_length_in_segment(i - 1, t_[i]);
   }
   for (int k = 1; k <= config::kReferenceEndMirror && k <= first_; ++k) {
@@ -174,10 +177,11 @@ ReferenceLineStatus ReferenceLine::build(std::span<const Point2> polyline,
 // f'' = C'.C''/|C'| <= |C''|, whose maximum on the segment is at a knot since
 // C'' is linear). Typically one arc-length integral per call (1.2 to 1.4 on
 // the test roads), against kArcLengthNewtonSteps (4) plus 4 speeds before.
-Scalar ReferenceLine::parameter_at(Scalar s, int& segment) const {
+template <class Cfg>
+Scalar BasicReferenceLine<Cfg>::parameter_at(Scalar s, int& segment) const {
   int lo = first_;
   int hi = last_;
-  for (int step = 0; step < kSearchSteps && hi - lo > 1; ++step) {
+  for (int step = 0; step < kSearchSteps<Cfg> && hi - lo > 1; ++step) {
     const int mid = (lo + hi) / 2;
     if (s_[mid] <= s) {
       lo = mid;
@@ -211,7 +215,8 @@ Scalar ReferenceLine::parameter_at(Scalar s, int& segment) const {
   return std::clamp(t_[lo] + w, t_[lo], t_[lo + 1]);
 }
 
-CurveSample ReferenceLine::sample_of(const Derivatives& d) {
+template <class Cfg>
+CurveSample BasicReferenceLine<Cfg>::sample_of(const Derivatives& d) {
   const Scalar speed2 = dot(d.d1, d.d1);
   const Scalar speed = std::sqrt(speed2);
   const Scalar c12 = cross(d.d1, d.d2);
@@ -226,7 +231,8 @@ CurveSample ReferenceLine::sample_of(const Derivatives& d) {
   return out;
 }
 
-CurveSample ReferenceLine::evaluate(Scalar s) const {
+template <class Cfg>
+CurveSample BasicReferenceLine<Cfg>::evaluate(Scalar s) const {
   if (s < Scalar(0) || s > length_) {
     const CurveSample& end = s < Scalar(0) ? start_ : end_;
     const Point2 tangent = s < Scalar(0) ? start_tangent_ : end_tangent_;
@@ -240,5 +246,10 @@ CurveSample ReferenceLine::evaluate(Scalar s) const {
   const Scalar u = parameter_at(s, segment);
   return sample_of(derivatives(segment_near(segment, u), u));
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) template class BasicReferenceLine<C>;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::geometry

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "itp/configurations.hpp"
 #include "itp/core/assert.hpp"
 #include "itp/geometry/reference_line.hpp"
 #include "reference_line_spline.hpp"
@@ -12,8 +13,9 @@ namespace itp::geometry {
 // Distance^2 from p to the chords of one group, folded into the running best
 // (smaller distance wins; on equal distances the lower chord index wins, as
 // in a scan of all chords in order).
-void ReferenceLine::scan_chords(Point2 p, int group, int& best, Scalar& best_tau,
-                                Scalar& best_d2) const {
+template <class Cfg>
+void BasicReferenceLine<Cfg>::scan_chords(Point2 p, int group, int& best, Scalar& best_tau,
+                                          Scalar& best_d2) const {
   const int k0 = first_ + group * kChordGroup;
   const int k1 = std::min(k0 + kChordGroup, last_);
   for (int i = k0; i < k1 && i - k0 < kChordGroup; ++i) {  // kChordGroup
@@ -39,10 +41,11 @@ void ReferenceLine::scan_chords(Point2 p, int group, int& best, Scalar& best_tau
 // grows with p (the stored radius covers the rest, see build()): every chord
 // distance^2 that the full scan would compute in that group is then
 // > best_d2, so none of them could win or tie.
-int ReferenceLine::nearest_chord(Point2 p, Scalar& tau) const {
+template <class Cfg>
+int BasicReferenceLine<Cfg>::nearest_chord(Point2 p, Scalar& tau) const {
   const Scalar eps = std::numeric_limits<Scalar>::epsilon();
   const Scalar margin = Scalar(64) * eps * (std::fabs(p.x) + std::fabs(p.y));
-  Scalar centre_d2[kMaxChordGroups] = {};  // |p - centre|^2 [m^2]
+  Scalar centre_d2[std::size_t{kMaxChordGroups}] = {};  // |p - centre|^2 [m^2]
   int start = 0;
   for (int g = 0; g < kMaxChordGroups && g < groups_; ++g) {  // kMaxChordGroups
     const Point2 v = p - group_centre_[g];
@@ -78,7 +81,8 @@ int ReferenceLine::nearest_chord(Point2 p, Scalar& tau) const {
 //     step falls back to Gauss-Newton), clamped to the curve's ends.
 // Then s = s(u), l = T x (p - C). A point beyond an end is expressed in the
 // straight extension of that end, exactly as to_cartesian extends it.
-FrenetPoint ReferenceLine::project(Point2 p, CurveSample* foot) const {
+template <class Cfg>
+FrenetPoint BasicReferenceLine<Cfg>::project(Point2 p, CurveSample* foot) const {
   ITP_EXPECTS(valid_);
   Scalar best_tau = Scalar(0);
   int segment = nearest_chord(p, best_tau);
@@ -129,13 +133,20 @@ FrenetPoint ReferenceLine::project(Point2 p, CurveSample* foot) const {
   return {s_[segment] + arc_length_in_segment(segment, u), cross(tangent, e)};
 }
 
-FrenetPoint ReferenceLine::to_frenet(Point2 p) const { return project(p, nullptr); }
+template <class Cfg>
+FrenetPoint BasicReferenceLine<Cfg>::to_frenet(Point2 p) const {
+  return project(p, nullptr);
+}
 
-FrenetPoint ReferenceLine::to_frenet(Point2 p, CurveSample& foot) const { return project(p, &foot); }
+template <class Cfg>
+FrenetPoint BasicReferenceLine<Cfg>::to_frenet(Point2 p, CurveSample& foot) const {
+  return project(p, &foot);
+}
 
 // position(s) + l * normal(s), with the unit normal taken from C'(u) directly
 // (the same direction as (-sin, cos) of evaluate(s).heading).
-Point2 ReferenceLine::to_cartesian(FrenetPoint f) const {
+template <class Cfg>
+Point2 BasicReferenceLine<Cfg>::to_cartesian(FrenetPoint f) const {
   ITP_EXPECTS(valid_);
   if (f.s < Scalar(0) || f.s > length_) {
     const bool before = f.s < Scalar(0);
@@ -150,5 +161,13 @@ Point2 ReferenceLine::to_cartesian(FrenetPoint f) const {
   const Scalar inv_speed = Scalar(1) / norm(d.d1);
   return d.p + f.l * Point2{-d.d1.y * inv_speed, d.d1.x * inv_speed};
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                                           \
+  template FrenetPoint BasicReferenceLine<C>::to_frenet(Point2) const;               \
+  template FrenetPoint BasicReferenceLine<C>::to_frenet(Point2, CurveSample&) const; \
+  template Point2 BasicReferenceLine<C>::to_cartesian(FrenetPoint) const;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::geometry

@@ -36,12 +36,13 @@ inline Scalar arc_length_of(Point2 a, Point2 b, Point2 c, Scalar w) {
 
 // The same interval as a bisection over all knots would find; the callers'
 // hints are at most a knot or two away. Each walk: <= kMaxReferenceKnots steps.
-inline int ReferenceLine::segment_near(int hint, Scalar u) const {
+template <class Cfg>
+inline int BasicReferenceLine<Cfg>::segment_near(int hint, Scalar u) const {
   int i = std::clamp(hint, 0, knots_ - 2);
-  for (int step = 0; step < config::kMaxReferenceKnots && i > 0 && t_[i] > u; ++step) {
+  for (int step = 0; step < Cfg::kMaxReferenceKnots && i > 0 && t_[i] > u; ++step) {
     --i;
   }
-  for (int step = 0; step < config::kMaxReferenceKnots && i < knots_ - 2 && t_[i + 1] <= u; ++step) {
+  for (int step = 0; step < Cfg::kMaxReferenceKnots && i < knots_ - 2 && t_[i + 1] <= u; ++step) {
     ++i;
   }
   return i;
@@ -53,7 +54,9 @@ inline int ReferenceLine::segment_near(int hint, Scalar u) const {
 //         costs no eps |x| of position noise)
 //   x'  = (x_{i+1} - x_i)/h - (3a^2 - 1) h x''_i / 6 + (3b^2 - 1) h x''_{i+1} / 6
 //   x'' = a x''_i + b x''_{i+1},   x''' = (x''_{i+1} - x''_i) / h
-inline ReferenceLine::Derivatives ReferenceLine::derivatives(int i, Scalar u) const {
+template <class Cfg>
+inline typename BasicReferenceLine<Cfg>::Derivatives BasicReferenceLine<Cfg>::derivatives(
+    int i, Scalar u) const {
   const Scalar h = t_[i + 1] - t_[i];
   const Scalar inv_h = Scalar(1) / h;
   const Scalar a = (t_[i + 1] - u) * inv_h;
@@ -77,7 +80,9 @@ inline ReferenceLine::Derivatives ReferenceLine::derivatives(int i, Scalar u) co
 
 // x'(t_i + w) = (x_{i+1} - x_i)/h - (2 x''_i + x''_{i+1}) h/6 + x''_i w
 //                + (x''_{i+1} - x''_i)/(2h) w^2   (the same for y).
-inline ReferenceLine::Tangent ReferenceLine::tangent_polynomial(int i) const {
+template <class Cfg>
+inline typename BasicReferenceLine<Cfg>::Tangent BasicReferenceLine<Cfg>::tangent_polynomial(
+    int i) const {
   const Scalar h = t_[i + 1] - t_[i];
   const Scalar inv_h = Scalar(1) / h;
   const Scalar h_6 = h * (Scalar(1) / Scalar(6));
@@ -90,7 +95,8 @@ inline ReferenceLine::Tangent ReferenceLine::tangent_polynomial(int i) const {
   return q;
 }
 
-inline Scalar ReferenceLine::arc_length_in_segment(int i, Scalar u) const {
+template <class Cfg>
+inline Scalar BasicReferenceLine<Cfg>::arc_length_in_segment(int i, Scalar u) const {
   const Tangent q = tangent_polynomial(i);
   return spline_detail::arc_length_of(q.a, q.b, q.c, u - t_[i]);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "itp/configurations.hpp"
 #include "itp/core/assert.hpp"
 
 namespace itp::geometry {
@@ -21,22 +22,23 @@ const char* to_string(ReferenceLineStatus status) {
   return "unknown";
 }
 
+template <class Cfg>
 ReferenceLineStatus check_reference_polyline(std::span<const Point2> polyline) {
   const int n = static_cast<int>(polyline.size());
   if (n < 2) {
     return ReferenceLineStatus::kTooFewPoints;
   }
-  if (n > config::kMaxReferencePoints) {
+  if (n > Cfg::kMaxReferencePoints) {
     return ReferenceLineStatus::kTooManyPoints;
   }
-  for (int i = 0; i < config::kMaxReferencePoints && i < n; ++i) {
+  for (int i = 0; i < Cfg::kMaxReferencePoints && i < n; ++i) {
     if (!is_finite(polyline[static_cast<std::size_t>(i)])) {
       return ReferenceLineStatus::kNonFinite;
     }
   }
   const Scalar cos_max_turn = std::cos(config::kMaxReferenceTurnPerPoint);
   Scalar length = Scalar(0);
-  for (int i = 0; i + 1 < n && i < config::kMaxReferencePoints; ++i) {
+  for (int i = 0; i + 1 < n && i < Cfg::kMaxReferencePoints; ++i) {
     const Point2 d = polyline[static_cast<std::size_t>(i + 1)] - polyline[static_cast<std::size_t>(i)];
     const Scalar len = norm(d);
     if (!(len >= config::kMinReferencePointSpacing)) {
@@ -59,11 +61,12 @@ ReferenceLineStatus check_reference_polyline(std::span<const Point2> polyline) {
   return ReferenceLineStatus::kOk;
 }
 
+template <class Cfg>
 Scalar distance_to_polyline(std::span<const Point2> polyline, Point2 p) {
   const int n = static_cast<int>(polyline.size());
-  ITP_EXPECTS(n >= 1 && n <= config::kMaxReferencePoints);
+  ITP_EXPECTS(n >= 1 && n <= Cfg::kMaxReferencePoints);
   Scalar best = norm(p - polyline[0]);
-  for (int i = 0; i + 1 < n && i < config::kMaxReferencePoints; ++i) {
+  for (int i = 0; i + 1 < n && i < Cfg::kMaxReferencePoints; ++i) {
     const Point2 a = polyline[static_cast<std::size_t>(i)];
     const Point2 d = polyline[static_cast<std::size_t>(i + 1)] - a;
     const Scalar dd = dot(d, d);
@@ -72,5 +75,12 @@ Scalar distance_to_polyline(std::span<const Point2> polyline, Point2 p) {
   }
   return best;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                                           \
+  template ReferenceLineStatus check_reference_polyline<C>(std::span<const Point2>); \
+  template Scalar distance_to_polyline<C>(std::span<const Point2>, Point2);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::geometry

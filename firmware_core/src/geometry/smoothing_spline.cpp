@@ -1,5 +1,6 @@
 #include "itp/geometry/smoothing_spline.hpp"
 
+#include "itp/configurations.hpp"
 #include "itp/core/assert.hpp"
 
 namespace itp::geometry {
@@ -24,19 +25,20 @@ Scalar q_entry(std::span<const Scalar> t, int r, int k) {
 
 }  // namespace
 
+template <class Cfg>
 bool fit_smoothing_spline(std::span<const Scalar> t, std::span<const Scalar> w,
                           std::span<const Scalar> y, Scalar lambda,
-                          SmoothingSplineWorkspace& ws, std::span<Scalar> g,
+                          BasicSmoothingSplineWorkspace<Cfg>& ws, std::span<Scalar> g,
                           std::span<Scalar> gamma) {
   const int n = static_cast<int>(t.size());
-  ITP_EXPECTS(n >= 3 && n <= config::kMaxReferenceKnots);
+  ITP_EXPECTS(n >= 3 && n <= Cfg::kMaxReferenceKnots);
   ITP_EXPECTS(w.size() == t.size() && y.size() == t.size());
   ITP_EXPECTS(g.size() == t.size() && gamma.size() == t.size());
   const auto at = [](std::span<const Scalar> v, int i) { return v[static_cast<std::size_t>(i)]; };
   const int m = n - 2;  // unknowns gamma_1 .. gamma_{n-2}, stored at j = k - 1
 
   // Assemble A = R + lambda Q^T W^-1 Q (bands 0, 1, 2) and Q^T y.
-  for (int j = 0; j < config::kMaxReferenceKnots && j < m; ++j) {
+  for (int j = 0; j < Cfg::kMaxReferenceKnots && j < m; ++j) {
     const int k = j + 1;
     const Scalar h_prev = at(t, k) - at(t, k - 1);
     const Scalar h_next = at(t, k + 1) - at(t, k);
@@ -61,7 +63,7 @@ bool fit_smoothing_spline(std::span<const Scalar> t, std::span<const Scalar> w,
   }
 
   // Banded LDL^T in place: d <- D, l1/l2 <- L.
-  for (int i = 0; i < config::kMaxReferenceKnots && i < m; ++i) {
+  for (int i = 0; i < Cfg::kMaxReferenceKnots && i < m; ++i) {
     ws.l2[i] = Scalar(0);
     ws.l1[i] = Scalar(0);
     Scalar di = ws.d[i];
@@ -80,25 +82,25 @@ bool fit_smoothing_spline(std::span<const Scalar> t, std::span<const Scalar> w,
     ws.d[i] = di;
   }
   // Solve L z = b, D u = z, L^T x = u (in rhs).
-  for (int i = 0; i < config::kMaxReferenceKnots && i < m; ++i) {
+  for (int i = 0; i < Cfg::kMaxReferenceKnots && i < m; ++i) {
     if (i >= 1) ws.rhs[i] -= ws.l1[i] * ws.rhs[i - 1];
     if (i >= 2) ws.rhs[i] -= ws.l2[i] * ws.rhs[i - 2];
   }
-  for (int i = 0; i < config::kMaxReferenceKnots && i < m; ++i) {
+  for (int i = 0; i < Cfg::kMaxReferenceKnots && i < m; ++i) {
     ws.rhs[i] /= ws.d[i];
   }
-  for (int c = 0; c < config::kMaxReferenceKnots && c < m; ++c) {
+  for (int c = 0; c < Cfg::kMaxReferenceKnots && c < m; ++c) {
     const int i = m - 1 - c;
     if (i + 1 < m) ws.rhs[i] -= ws.l1[i + 1] * ws.rhs[i + 1];
     if (i + 2 < m) ws.rhs[i] -= ws.l2[i + 2] * ws.rhs[i + 2];
   }
 
   // gamma (natural ends) and g = y - lambda W^-1 Q gamma.
-  for (int r = 0; r < config::kMaxReferenceKnots && r < n; ++r) {
+  for (int r = 0; r < Cfg::kMaxReferenceKnots && r < n; ++r) {
     gamma[static_cast<std::size_t>(r)] =
         (r == 0 || r == n - 1) ? Scalar(0) : ws.rhs[r - 1];
   }
-  for (int r = 0; r < config::kMaxReferenceKnots && r < n; ++r) {
+  for (int r = 0; r < Cfg::kMaxReferenceKnots && r < n; ++r) {
     Scalar q_gamma = Scalar(0);
     for (int k = r - 1; k <= r + 1; ++k) {  // 3 columns touch row r
       if (k >= 1 && k <= n - 2) {
@@ -109,5 +111,13 @@ bool fit_smoothing_spline(std::span<const Scalar> t, std::span<const Scalar> w,
   }
   return true;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                                               \
+  template bool fit_smoothing_spline<C>(                                                 \
+      std::span<const Scalar>, std::span<const Scalar>, std::span<const Scalar>, Scalar, \
+      BasicSmoothingSplineWorkspace<C>&, std::span<Scalar>, std::span<Scalar>);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::geometry

@@ -1,5 +1,6 @@
 #include "itp/link/planner_messages.hpp"
 
+#include "itp/configurations.hpp"
 #include "itp/link/byte_codec.hpp"
 
 namespace itp::link {
@@ -10,7 +11,8 @@ constexpr std::uint8_t kResetFlag = 1u;
 float f(Scalar v) { return static_cast<float>(v); }
 Scalar s(float v) { return static_cast<Scalar>(v); }
 
-void put_boundary(ByteWriter& w, const scene::Boundary& b) {
+template <class Cfg>
+void put_boundary(ByteWriter& w, const scene::BasicBoundary<Cfg>& b) {
   w.u8(static_cast<std::uint8_t>(b.table.size()));
   w.f32(f(b.offset));
   for (const scene::BoundaryPoint& p : b.table) {  // <= kMaxBoundaryPoints
@@ -19,11 +21,12 @@ void put_boundary(ByteWriter& w, const scene::Boundary& b) {
   }
 }
 
-bool get_boundary(ByteReader& r, scene::Boundary& b) {
+template <class Cfg>
+bool get_boundary(ByteReader& r, scene::BasicBoundary<Cfg>& b) {
   const int n = r.u8();
   b.offset = s(r.f32());
   b.table.clear();
-  if (n > config::kMaxBoundaryPoints) {
+  if (n > Cfg::kMaxBoundaryPoints) {
     return false;
   }
   for (int i = 0; i < n; ++i) {  // <= kMaxBoundaryPoints
@@ -37,7 +40,9 @@ bool get_boundary(ByteReader& r, scene::Boundary& b) {
 
 }  // namespace
 
-std::size_t encode_scene(const SceneHeader& h, const scene::Scene& sc, int stride, std::span<std::uint8_t> out) {
+template <class Cfg>
+std::size_t encode_scene(const SceneHeader& h, const scene::BasicScene<Cfg>& sc, int stride,
+                         std::span<std::uint8_t> out) {
   ByteWriter w(out);
   const double ox = sc.reference_line.empty() ? 0.0 : static_cast<double>(sc.reference_line[0].x);
   const double oy = sc.reference_line.empty() ? 0.0 : static_cast<double>(sc.reference_line[0].y);
@@ -76,7 +81,8 @@ std::size_t encode_scene(const SceneHeader& h, const scene::Scene& sc, int strid
   }
   w.u8(static_cast<std::uint8_t>(sc.dynamic_obstacles.size()));
   const std::size_t step = stride < 1 ? 1u : static_cast<std::size_t>(stride);
-  for (const scene::DynamicObstacle& o : sc.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+  for (const scene::BasicDynamicObstacle<Cfg>& o :
+       sc.dynamic_obstacles) {  // <= kMaxDynamicObstacles
     w.i32(o.id);
     w.f32(f(o.length));
     w.f32(f(o.width));
@@ -98,9 +104,10 @@ std::size_t encode_scene(const SceneHeader& h, const scene::Scene& sc, int strid
   return w.ok() ? w.size() : 0;
 }
 
-bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Scene& sc) {
+template <class Cfg>
+bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::BasicScene<Cfg>& sc) {
   ByteReader r(in);
-  sc = scene::Scene{};
+  sc = scene::BasicScene<Cfg>{};
   h.cycle = r.u32();
   h.now = r.f64();
   h.reset = (r.u8() & kResetFlag) != 0u;
@@ -109,7 +116,7 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Scene
   const auto ax = [&](float x) { return static_cast<Scalar>(ox + static_cast<double>(x)); };
   const auto ay = [&](float y) { return static_cast<Scalar>(oy + static_cast<double>(y)); };
   const int n_ref = r.u8();
-  if (n_ref > config::kMaxReferencePoints) {
+  if (n_ref > Cfg::kMaxReferencePoints) {
     return false;
   }
   for (int i = 0; i < n_ref; ++i) {  // <= kMaxReferencePoints
@@ -133,7 +140,7 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Scene
     *p = s(r.f32());
   }
   const int n_static = r.u8();
-  if (n_static > config::kMaxStaticObstacles) {
+  if (n_static > Cfg::kMaxStaticObstacles) {
     return false;
   }
   for (int i = 0; i < n_static; ++i) {  // <= kMaxStaticObstacles
@@ -147,16 +154,16 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Scene
     static_cast<void>(sc.static_obstacles.push_back(o));
   }
   const int n_dyn = r.u8();
-  if (n_dyn > config::kMaxDynamicObstacles) {
+  if (n_dyn > Cfg::kMaxDynamicObstacles) {
     return false;
   }
   for (int i = 0; i < n_dyn; ++i) {  // <= kMaxDynamicObstacles
-    scene::DynamicObstacle o;
+    scene::BasicDynamicObstacle<Cfg> o;
     o.id = r.i32();
     o.length = s(r.f32());
     o.width = s(r.f32());
     const int n = r.u8();
-    if (n > config::kMaxPredictionSamples) {
+    if (n > Cfg::kMaxPredictionSamples) {
       return false;
     }
     for (int k = 0; k < n; ++k) {  // <= kMaxPredictionSamples
@@ -173,7 +180,8 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Scene
   return r.done();
 }
 
-std::size_t encode_plan(std::uint32_t cycle, double ox, double oy, const planner::Plan& p,
+template <class Cfg>
+std::size_t encode_plan(std::uint32_t cycle, double ox, double oy, const planner::BasicPlan<Cfg>& p,
                         std::span<std::uint8_t> out) {
   ByteWriter w(out);
   w.u32(cycle);
@@ -209,9 +217,11 @@ std::size_t encode_plan(std::uint32_t cycle, double ox, double oy, const planner
   return w.ok() ? w.size() : 0;
 }
 
-bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle, planner::Plan& p) {
+template <class Cfg>
+bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle,
+                 planner::BasicPlan<Cfg>& p) {
   ByteReader r(in);
-  p = planner::Plan{};
+  p = planner::BasicPlan<Cfg>{};
   cycle = r.u32();
   p.status = static_cast<PlanStatus>(r.u8());
   p.fallback = static_cast<planner::FallbackReason>(r.u8());
@@ -228,7 +238,7 @@ bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle, planner
   const double ox = r.f64();
   const double oy = r.f64();
   const int n = r.u8();
-  if (n > config::kTrajectorySamples) {
+  if (n > Cfg::kTrajectorySamples) {
     return false;
   }
   for (int i = 0; i < n; ++i) {  // <= kTrajectorySamples
@@ -243,7 +253,7 @@ bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle, planner
     static_cast<void>(p.trajectory.push_back(q));
   }
   const int nd = r.u8();
-  if (nd > config::kMaxObstacles) {
+  if (nd > Cfg::kMaxObstacles) {
     return false;
   }
   for (int i = 0; i < nd; ++i) {  // <= kMaxObstacles
@@ -256,5 +266,18 @@ bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle, planner
   }
   return r.done();
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                                                         \
+  template std::size_t encode_scene<C>(const SceneHeader&, const scene::BasicScene<C>&, int,       \
+                                       std::span<std::uint8_t>);                                   \
+  template bool decode_scene<C>(std::span<const std::uint8_t>, SceneHeader&,                       \
+                                scene::BasicScene<C>&);                                            \
+  template std::size_t encode_plan<C>(std::uint32_t, double, double, const planner::BasicPlan<C>&, \
+                                      std::span<std::uint8_t>);                                    \
+  template bool decode_plan<C>(std::span<const std::uint8_t>, std::uint32_t&,                      \
+                               planner::BasicPlan<C>&);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::link

@@ -9,10 +9,10 @@ std::size_t encode(const QpSolveReply& msg, std::span<std::uint8_t> out) {
   w.u16(msg.n);
   w.f64(msg.objective);
   w.u64(msg.ticks);
-  for (int i = 0; i < msg.n && i < config::kPathVariables; ++i) {  // n <= kPathVariables
+  for (int i = 0; i < msg.n && i < DefaultConfig::kPathVariables; ++i) {  // n <= kPathVariables
     w.f64(msg.x[i]);
   }
-  return w.ok() && msg.n <= config::kPathVariables ? w.size() : 0;
+  return w.ok() && msg.n <= DefaultConfig::kPathVariables ? w.size() : 0;
 }
 
 bool decode(std::span<const std::uint8_t> in, QpSolveReply& msg) {
@@ -22,7 +22,7 @@ bool decode(std::span<const std::uint8_t> in, QpSolveReply& msg) {
   msg.n = r.u16();
   msg.objective = r.f64();
   msg.ticks = r.u64();
-  if (msg.n > config::kPathVariables) {
+  if (msg.n > DefaultConfig::kPathVariables) {
     return false;
   }
   for (int i = 0; i < msg.n; ++i) {  // n <= kPathVariables

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "itp/configurations.hpp"
 #include "itp/decision/corridor.hpp"
 #include "itp/qp/hot_or_cold.hpp"
 #include "itp/spline/quintic_block.hpp"
@@ -10,34 +11,36 @@
 namespace itp::path {
 namespace {
 
-constexpr int kB = config::kPathBlocks;
-
 int var(int knot, int state) { return 3 * knot + state; }
 
-Scalar kappa_ref_at(const PathInput& in, Scalar s) {
+template <class Cfg>
+Scalar kappa_ref_at(const BasicPathInput<Cfg>& in, Scalar s) {
   return in.kappa_ref != nullptr ? in.kappa_ref->at(s) : Scalar(0);
 }
 
-Scalar kappa_bound_at(const PathInput& in, Scalar s) {
+template <class Cfg>
+Scalar kappa_bound_at(const BasicPathInput<Cfg>& in, Scalar s) {
   return in.kappa_bound != nullptr ? in.kappa_bound->at(s) : in.kappa_max;
 }
 
 }  // namespace
 
-Scalar PathResult::eval(Scalar s, int derivative) const {
-  return spline::eval_spline(coefficients.data(), kB, h, s0, s, derivative);
+template <class Cfg>
+Scalar BasicPathResult<Cfg>::eval(Scalar s, int derivative) const {
+  return spline::eval_spline(coefficients.data(), Cfg::kPathBlocks, h, s0, s, derivative);
 }
 
-void PathOptimizer::build(const decision::ConvexSpace& space, const decision::Decision& decision,
-                          const PathInput& in, const PathWeights& w, Scalar h) {
+template <class Cfg>
+void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& decision,
+                                    const PathInput& in, const PathWeights& w, Scalar h) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
-  static_cast<void>(problem_.reset(config::kPathVariables, qp::kPathQpRows));
+  static_cast<void>(problem_.reset(Cfg::kPathVariables, Cfg::kPathQpRows));
   const spline::Matrix6 block_h = Scalar(2) * ((w.target + w.obstacle) * spline::gram(h, 0) +
                                                w.d1 * spline::gram(h, 1) +
                                                w.d2 * spline::gram(h, 2) + w.d3 * spline::gram(h, 3));
   const Scalar half_width = Scalar(0.5) * in.vehicle_width;
   int row = 0;
-  for (int b = 0; b < kB; ++b) {  // kPathBlocks
+  for (int b = 0; b < Cfg::kPathBlocks; ++b) {  // kPathBlocks
     const int v0 = var(b, 0);
     for (int i = 0; i < 6; ++i) {    // block Hessian into the band
       for (int j = 0; j <= i; ++j) {
@@ -67,8 +70,9 @@ void PathOptimizer::build(const decision::ConvexSpace& space, const decision::De
       problem_.g[v0 + i] += lin(i);
     }
     // Rows at the samples: corridor (8), l' and l''.
-    for (int k = 0; k < kPathSamplesPerBlock; ++k) {  // samples per block
-      const Scalar tau = h * static_cast<Scalar>(k) / static_cast<Scalar>(kPathSamplesPerBlock);
+    for (int k = 0; k < Cfg::kPathSamplesPerBlock; ++k) {  // samples per block
+      const Scalar tau =
+          h * static_cast<Scalar>(k) / static_cast<Scalar>(Cfg::kPathSamplesPerBlock);
       const Scalar s = sb + tau;
       const spline::Row6 r0 = spline::evaluate_row(h, tau, 0);
       const spline::Row6 r1 = spline::evaluate_row(h, tau, 1);
@@ -94,11 +98,11 @@ void PathOptimizer::build(const decision::ConvexSpace& space, const decision::De
       const Scalar kb = kappa_bound_at(in, s);
       problem_.lba[row + 3] = at_start ? -inf : -kb - kr;
       problem_.uba[row + 3] = at_start ? inf : kb - kr;
-      row += kPathRowsPerSample;
+      row += Cfg::kPathRowsPerSample;
     }
   }
   // Knot bounds: the start is init_sl; elsewhere l' and l'' as the rows.
-  for (int j = 1; j < kPathKnots; ++j) {  // kPathBlocks
+  for (int j = 1; j < Cfg::kPathKnots; ++j) {  // kPathBlocks
     const Scalar s = in.s0 + h * static_cast<Scalar>(j);
     const Scalar kr = kappa_ref_at(in, s);
     const Scalar kb = kappa_bound_at(in, s);
@@ -112,10 +116,11 @@ void PathOptimizer::build(const decision::ConvexSpace& space, const decision::De
   problem_.lb[var(0, 2)] = problem_.ub[var(0, 2)] = in.ddl0;
 }
 
-void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::Decision& decision,
-                          const PathInput& in, const PathWeights& w, PathResult& out) {
+template <class Cfg>
+void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& decision,
+                                    const PathInput& in, const PathWeights& w, PathResult& out) {
   out = PathResult{};
-  const Scalar h = in.length / static_cast<Scalar>(kB);
+  const Scalar h = in.length / static_cast<Scalar>(Cfg::kPathBlocks);
   if (decision.zones.empty() || !(h > 0) || !std::isfinite(in.l0) || !std::isfinite(in.dl0) ||
       !std::isfinite(in.ddl0)) {
     out.status = qp::QpStatus::kInvalidInput;
@@ -141,11 +146,18 @@ void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::De
   out.s0 = in.s0;
   out.h = h;
   if (qp::is_usable(st)) {
-    for (int i = 0; i < config::kPathVariables; ++i) {  // 63
+    for (int i = 0; i < Cfg::kPathVariables; ++i) {  // 63
       out.knots[static_cast<std::size_t>(i)] = result_.x[i];
     }
-    spline::block_coefficients(h, out.knots.data(), kB, out.coefficients.data());
+    spline::block_coefficients(h, out.knots.data(), Cfg::kPathBlocks, out.coefficients.data());
   }
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)            \
+  template struct BasicPathResult<C>; \
+  template class BasicPathOptimizer<C>;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::path

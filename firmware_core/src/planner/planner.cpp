@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "itp/collision/oriented_box.hpp"
+#include "itp/configurations.hpp"
 #include "itp/decision/corridor.hpp"
 #include "itp/geometry/frenet.hpp"
 #include "itp/scene/obstacle_motion.hpp"
@@ -11,25 +12,24 @@
 namespace itp::planner {
 namespace {
 
-constexpr int kSamples = speed::kStSamples;  // 71 trajectory samples, every 0.1 s
-constexpr Scalar kDt = config::kSpeedHorizon / static_cast<Scalar>(speed::kSpeedSamples);  // [s]
 constexpr Scalar kMinPathLength = Scalar(20);     // [m] shorter horizon: stop
 constexpr Scalar kPreviousPlanMaxAge = Scalar(1);  // [s] older plans are not stitched
 constexpr int kMaxPathAttempts = 4;                // decisions tried by the path QP per iteration
 constexpr Scalar kFallbackPathAge = Scalar(1);    // [s] a fallback brakes along the last ok plan this long
-constexpr Scalar kOncomingHeading = Scalar(1.5707963267948966);  // [rad] |heading - reference| beyond: oncoming
-static_assert(kSamples == config::kTrajectorySamples, "speed samples are the trajectory samples");
+constexpr Scalar kOncomingHeading =
+    Scalar(1.5707963267948966);  // [rad] |heading - reference| beyond: oncoming
 
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
 Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
 // A road edge moved inwards by `shift` (> 0: towards the left).
-decision::LateralProfile to_profile(const scene::Boundary& b, Scalar shift) {
+template <class Cfg>
+decision::BasicLateralProfile<Cfg> to_profile(const scene::BasicBoundary<Cfg>& b, Scalar shift) {
   if (b.is_constant()) {
-    return decision::LateralProfile::constant(b.offset + shift);
+    return decision::BasicLateralProfile<Cfg>::constant(b.offset + shift);
   }
-  decision::LateralProfile p;
+  decision::BasicLateralProfile<Cfg> p;
   for (const scene::BoundaryPoint& q : b.table) {  // <= kMaxBoundaryPoints
     static_cast<void>(p.add(q.s, q.l + shift));
   }
@@ -55,8 +55,10 @@ Scalar cartesian_kappa(Scalar l, Scalar dl, Scalar ddl, Scalar kr) {
 // error on a curved road is about κ·L²/8 (6 cm for a 5 m car on a 50 m
 // radius), well inside the dynamic margin; 355 boxes per cycle make the exact
 // edge-sampled version (about 20 projections each) the planner's largest cost.
-decision::SlBox moving_box_sl(const geometry::ReferenceLine& line, Scalar x, Scalar y, Scalar heading,
-                              Scalar length, Scalar width, Scalar margin, std::int32_t id) {
+template <class Cfg>
+decision::SlBox moving_box_sl(const geometry::BasicReferenceLine<Cfg>& line, Scalar x, Scalar y,
+                              Scalar heading, Scalar length, Scalar width, Scalar margin,
+                              std::int32_t id) {
   geometry::CurveSample foot;
   const geometry::FrenetPoint c = line.to_frenet(geometry::Point2{x, y}, foot);
   const Scalar rel = geometry::relative_heading(heading, foot.heading);
@@ -88,7 +90,8 @@ const char* to_string(FallbackReason reason) {
 
 // --- Preparation ------------------------------------------------------------
 
-bool Planner::prepare(const scene::Scene& scene, Scalar now, Plan& out) {
+template <class Cfg>
+bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
   const scene::ValidationResult v = scene::validate(scene);
   if (!v.ok()) {
     out.status = PlanStatus::kInvalidInput;
@@ -105,13 +108,13 @@ bool Planner::prepare(const scene::Scene& scene, Scalar now, Plan& out) {
   front_ = ego.geometry.length - rear_;
   const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{ego.state.x, ego.state.y});
   s_start_ = f.s;
-  length_ = min_of(config::kPathLength, reference_.length() - f.s);
+  length_ = min_of(Cfg::kPathLength, reference_.length() - f.s);
   if (length_ < kMinPathLength) {
     return false;  // caller falls back: the map ends too close ahead
   }
   kappa_.s0 = s_start_;
-  kappa_.ds = length_ / static_cast<Scalar>(decision::kCurvatureSamples - 1);
-  for (int i = 0; i < decision::kCurvatureSamples; ++i) {  // kCurvatureSamples
+  kappa_.ds = length_ / static_cast<Scalar>(Cfg::kCurvatureSamples - 1);
+  for (int i = 0; i < Cfg::kCurvatureSamples; ++i) {  // Cfg::kCurvatureSamples
     kappa_.kappa[static_cast<std::size_t>(i)] =
         reference_.evaluate(kappa_.s0 + kappa_.ds * static_cast<Scalar>(i)).kappa;
   }
@@ -131,7 +134,8 @@ bool Planner::prepare(const scene::Scene& scene, Scalar now, Plan& out) {
   return true;
 }
 
-void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
+template <class Cfg>
+void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
   boxes_.clear();
   for (const scene::StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
     const geometry::SLBox b = geometry::sl_bounding_box(
@@ -141,13 +145,13 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
     static_cast<void>(boxes_.push_back(sl));
   }
   track_count_ = 0;
-  for (const scene::DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
-    speed::DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_++)];
+  for (const DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+    DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_++)];
     tr.id = o.id;
     tr.sweep_occupied = false;
     bool seen = false;
     bool on_road = false;  // first seen on the road: its prediction stays there
-    for (int k = 0; k < kSamples; ++k) {  // kStSamples
+    for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
       const auto u = static_cast<std::size_t>(k);
       const scene::ObstacleSample p = scene::sample_pose(o, now + kDt * static_cast<Scalar>(k));
       tr.present[u] = p.present;
@@ -175,7 +179,8 @@ void Planner::project_obstacles(const scene::Scene& scene, Scalar now) {
 // Road users seen on the road stay on it: a constant-velocity prediction on a
 // curve runs off along the tangent, so its boxes are shifted back inside the
 // road edges (when they fit), where the road bends the real obstacle.
-void Planner::keep_on_road(Scalar s, decision::SlBox& box) const {
+template <class Cfg>
+void BasicPlanner<Cfg>::keep_on_road(Scalar s, decision::SlBox& box) const {
   const Scalar lo = road_.right.at(s);
   const Scalar hi = road_.left.at(s);
   if (box.l_max - box.l_min > hi - lo) {
@@ -190,16 +195,18 @@ void Planner::keep_on_road(Scalar s, decision::SlBox& box) const {
 // sample at which the ego's guessed position lies within the obstacle's
 // s-extent (grown by the ego's length); obstacles the ego never reaches sit at
 // their last predicted place; `skip` marks those left to the ST graph alone.
-int Planner::place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess, bool* skip) {
+template <class Cfg>
+int BasicPlanner<Cfg>::place_dynamic(const std::array<Scalar, Cfg::kStSamples>& s_guess,
+                                     bool* skip) {
   int placed = 0;
   for (int i = 0; i < track_count_; ++i) {  // <= kMaxDynamicObstacles
-    const speed::DynamicTrack& tr = tracks_[static_cast<std::size_t>(i)];
+    const DynamicTrack& tr = tracks_[static_cast<std::size_t>(i)];
     if (skip[i]) {
       continue;
     }
     int meet = -1;
     int last = -1;
-    for (int k = 0; k < kSamples && meet < 0; ++k) {  // kStSamples
+    for (int k = 0; k < kSamples && meet < 0; ++k) {  // Cfg::kStSamples
       const auto u = static_cast<std::size_t>(k);
       if (!tr.present[u]) {
         continue;
@@ -222,7 +229,7 @@ int Planner::place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess,
       // holds for traffic coming up from behind in another lane: cutting in
       // ahead of it and slowing down gets the ego hit. Its box is everything
       // it covers over the horizon.
-      for (int j = 0; j < kSamples; ++j) {  // kStSamples
+      for (int j = 0; j < kSamples; ++j) {  // Cfg::kStSamples
         const auto u = static_cast<std::size_t>(j);
         if (tr.present[u]) {
           b.s_min = min_of(b.s_min, tr.box[u].s_min);
@@ -241,7 +248,9 @@ int Planner::place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess,
   return placed;
 }
 
-Planner::Start Planner::start_state(const scene::Scene& scene, Scalar now) const {
+template <class Cfg>
+typename BasicPlanner<Cfg>::Start BasicPlanner<Cfg>::start_state(const Scene& scene,
+                                                                 Scalar now) const {
   const scene::EgoState& e = scene.ego.state;
   geometry::CurveSample r;
   const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{e.x, e.y}, r);
@@ -283,14 +292,16 @@ Planner::Start Planner::start_state(const scene::Scene& scene, Scalar now) const
 // The path's curvature bound at the speed the ego is expected to have there:
 // min(κ_max, a_lat_max / v²), never below the reference's own curvature (the
 // speed stage slows the ego for that). v(s) is read off the guessed s(t), v(t).
-void Planner::update_kappa_bound(const std::array<Scalar, speed::kStSamples>& s_guess,
-                                 const std::array<Scalar, speed::kStSamples>& v_guess) {
+template <class Cfg>
+void BasicPlanner<Cfg>::update_kappa_bound(const std::array<Scalar, Cfg::kStSamples>& s_guess,
+                                           const std::array<Scalar, Cfg::kStSamples>& v_guess) {
   kappa_bound_.s0 = kappa_.s0;
   kappa_bound_.ds = kappa_.ds;
   int k = 0;
-  for (int i = 0; i < decision::kCurvatureSamples; ++i) {  // kCurvatureSamples
+  for (int i = 0; i < Cfg::kCurvatureSamples; ++i) {  // Cfg::kCurvatureSamples
     const Scalar s_rel = kappa_.ds * static_cast<Scalar>(i);
-    while (k + 1 < kSamples && s_guess[static_cast<std::size_t>(k + 1)] < s_rel) {  // monotone, < kStSamples in all
+    while (k + 1 < kSamples && s_guess[static_cast<std::size_t>(k + 1)] <
+                                   s_rel) {  // monotone, < Cfg::kStSamples in all
       ++k;
     }
     const Scalar v = max_of(v_guess[static_cast<std::size_t>(k)], Scalar(1));
@@ -303,14 +314,15 @@ void Planner::update_kappa_bound(const std::array<Scalar, speed::kStSamples>& s_
 
 // Kept decisions with a usable coarse QP, by decision cost (eq. 4) plus the
 // hysteresis bonus for keeping last cycle's sides; ties keep the geometric rank.
-int Planner::rank_decisions(std::array<int, config::kKeptDecisions>& order) const {
-  std::array<Scalar, config::kKeptDecisions> cost{};
+template <class Cfg>
+int BasicPlanner<Cfg>::rank_decisions(std::array<int, Cfg::kKeptDecisions>& order) const {
+  std::array<Scalar, Cfg::kKeptDecisions> cost{};
   int n = 0;
   for (std::size_t i = 0; i < decision_.decisions().kept.size(); ++i) {  // <= kKeptDecisions
     if (!qp::is_usable(decision_.coarse(i).status)) {
       continue;
     }
-    const decision::CoarseResult& cr = decision_.coarse(i);
+    const CoarseResult& cr = decision_.coarse(i);
     Scalar c = cr.decision_cost - hysteresis_bonus(static_cast<int>(i));
     if (!decision_.decisions().kept[i].reaches_end && cr.samples > 0) {
       // A stop before a blockage waits in the target lane, not half-way into
@@ -338,11 +350,12 @@ int Planner::rank_decisions(std::array<int, config::kKeptDecisions>& order) cons
 // Frame-to-frame consistency: a decision that passes every obstacle of the
 // previous cycle's plan on the same side as that plan did earns a bonus, so
 // that near-equal alternatives do not flip between cycles.
-Scalar Planner::hysteresis_bonus(int index) const {
+template <class Cfg>
+Scalar BasicPlanner<Cfg>::hysteresis_bonus(int index) const {
   if (!have_previous_ || previous_.decisions.empty()) {
     return 0;
   }
-  const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
+  const Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
   int compared = 0;
   for (const decision::SlBox& b : boxes_) {  // <= kMaxObstacles
     for (const ObstacleDecision& od : previous_.decisions) {  // <= kMaxObstacles
@@ -364,7 +377,8 @@ Scalar Planner::hysteresis_bonus(int index) const {
 
 // --- Output ----------------------------------------------------------------
 
-void Planner::sample_trajectory(const Start& start, Plan& out) const {
+template <class Cfg>
+void BasicPlanner<Cfg>::sample_trajectory(const Start& start, Plan& out) const {
   out.trajectory.clear();
   for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
     const Scalar t = kDt * static_cast<Scalar>(k);
@@ -392,7 +406,8 @@ void Planner::sample_trajectory(const Start& start, Plan& out) const {
 }
 
 // Index of the first trajectory sample whose footprint overlaps an obstacle; -1: none.
-int Planner::first_collision(const scene::Scene& scene, Scalar now, const Plan& plan) const {
+template <class Cfg>
+int BasicPlanner<Cfg>::first_collision(const Scene& scene, Scalar now, const Plan& plan) const {
   const scene::VehicleGeometry& g = scene.ego.geometry;
   for (std::size_t k = 0; k < plan.trajectory.size(); ++k) {  // kTrajectorySamples
     const TrajectoryPoint& p = plan.trajectory[k];
@@ -402,7 +417,7 @@ int Planner::first_collision(const scene::Scene& scene, Scalar now, const Plan& 
         return static_cast<int>(k);
       }
     }
-    for (const scene::DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+    for (const DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
       const scene::ObstacleSample q = scene::sample_pose(o, now + p.t);
       if (q.present && collision::overlap(ego, obstacle_box(q.x, q.y, q.heading, o.length, o.width))) {
         return static_cast<int>(k);
@@ -412,12 +427,13 @@ int Planner::first_collision(const scene::Scene& scene, Scalar now, const Plan& 
   return -1;
 }
 
-void Planner::record_decisions(Plan& out) const {
+template <class Cfg>
+void BasicPlanner<Cfg>::record_decisions(Plan& out) const {
   out.decisions.clear();
   if (chosen_ < 0) {
     return;
   }
-  const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
+  const Decision& d = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
   for (const decision::SlBox& b : boxes_) {  // <= kMaxObstacles
     ObstacleDecision od;
     od.obstacle = b.obstacle_id;
@@ -428,7 +444,7 @@ void Planner::record_decisions(Plan& out) const {
                                                   : LateralSide::kNone;
     static_cast<void>(out.decisions.push_back(od));
   }
-  for (const speed::StDecision& sd : st_.decisions()) {  // <= kMaxDynamicObstacles
+  for (const StDecision& sd : st_.decisions()) {  // <= kMaxDynamicObstacles
     bool found = false;
     for (ObstacleDecision& od : out.decisions) {  // <= kMaxObstacles
       if (od.obstacle == sd.id && od.dynamic) {
@@ -449,7 +465,8 @@ void Planner::record_decisions(Plan& out) const {
 // A safe stop: brake at the comfortable limit along the previous plan's path
 // if there is one, else along the current lateral offset of the reference
 // line, else (no usable reference) straight ahead.
-void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason reason, Plan& out) {
+template <class Cfg>
+void BasicPlanner<Cfg>::fallback(const Scene* scene, Scalar now, FallbackReason reason, Plan& out) {
   if (out.status != PlanStatus::kInvalidInput) {
     out.status = PlanStatus::kFallback;
     out.fallback = reason;
@@ -560,10 +577,11 @@ void Planner::fallback(const scene::Scene* scene, Scalar now, FallbackReason rea
 // bounds at its samples (to the millimetre). Within one cycle the path QP at
 // the steering limit depends on nothing else (the start state is fixed), so a
 // corridor that failed there fails again in a later iteration or round.
-std::uint64_t Planner::corridor_signature(const decision::Decision& d, const path::PathInput& pi) const {
+template <class Cfg>
+std::uint64_t BasicPlanner<Cfg>::corridor_signature(const Decision& d, const PathInput& pi) const {
   constexpr std::uint64_t kFnvPrime = 1099511628211ull;
   std::uint64_t h = 14695981039346656037ull;  // FNV-1a offset basis
-  const int samples = config::kPathBlocks * path::kPathSamplesPerBlock;
+  const int samples = Cfg::kPathBlocks * Cfg::kPathSamplesPerBlock;
   for (int k = 0; k <= samples; ++k) {  // the path QP's samples
     const Scalar s = pi.s0 + pi.length * static_cast<Scalar>(k) / static_cast<Scalar>(samples);
     const decision::LateralInterval c = decision::corridor_at(decision_.space(), d, s);
@@ -575,7 +593,8 @@ std::uint64_t Planner::corridor_signature(const decision::Decision& d, const pat
   return h;
 }
 
-bool Planner::known_infeasible(std::uint64_t corridor) const {
+template <class Cfg>
+bool BasicPlanner<Cfg>::known_infeasible(std::uint64_t corridor) const {
   for (const std::uint64_t c : infeasible_) {  // <= kRememberedInfeasibleCorridors
     if (c == corridor) {
       return true;
@@ -586,7 +605,9 @@ bool Planner::known_infeasible(std::uint64_t corridor) const {
 
 // The track of the nearest moving obstacle whose SL box is in play (all, or
 // only those where the best corridor ends at `reach`), not yet left out; -1: none.
-int Planner::nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only, Scalar reach) const {
+template <class Cfg>
+int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only,
+                                       Scalar reach) const {
   int found = -1;
   Scalar nearest = Scalar(0);
   for (std::size_t i = n_static; i < boxes_.size(); ++i) {  // <= kMaxDynamicObstacles
@@ -612,12 +633,15 @@ int Planner::nearest_dynamic(std::size_t n_static, const bool* skip, bool at_rea
 // decisions in cost order (the coarse QP only sees samples every few metres),
 // each first with the curvature bound at the expected speed, then at the
 // steering limit only (the speed stage then slows the ego for it).
-FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>& s_guess, std::size_t n_static,
-                                    const decision::ConvexSpaceParams& cp, const decision::CoarseInput& ci,
-                                    path::PathInput& pi, Plan& out) {
-  bool skip[config::kMaxDynamicObstacles] = {};
+template <class Cfg>
+FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStSamples>& s_guess,
+                                              std::size_t n_static,
+                                              const decision::ConvexSpaceParams& cp,
+                                              const CoarseInput& ci, PathInput& pi, Plan& out) {
+  bool skip[Cfg::kMaxDynamicObstacles] = {};
   chosen_ = -1;
-  for (int round = 0; round <= config::kMaxDynamicObstacles; ++round) {  // one more left-out obstacle per round
+  for (int round = 0; round <= Cfg::kMaxDynamicObstacles;
+       ++round) {  // one more left-out obstacle per round
     std::uint64_t t0 = ticks_.ticks();
     while (boxes_.size() > n_static) {  // drop last round's dynamic boxes
       boxes_.pop_back();
@@ -645,16 +669,16 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
     }
     if (drop < 0) {
       t0 = ticks_.ticks();
-      std::array<int, config::kKeptDecisions> order{};
+      std::array<int, Cfg::kKeptDecisions> order{};
       const int candidates = rank_decisions(order);
       for (int attempt = 0; attempt < candidates && attempt < kMaxPathAttempts && chosen_ < 0; ++attempt) {
         const int index = order[static_cast<std::size_t>(attempt)];
-        const decision::Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
+        const Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
         const std::uint64_t corridor = corridor_signature(d, pi);
         if (known_infeasible(corridor)) {
           continue;  // this corridor failed at the steering limit earlier in this cycle
         }
-        for (int relax = 0; relax < 2 && chosen_ < 0 && path_solves_ < config::kMaxPathSolvesPerCycle;
+        for (int relax = 0; relax < 2 && chosen_ < 0 && path_solves_ < Cfg::kMaxPathSolvesPerCycle;
              ++relax) {  // expected-speed bound, then steering limit; within the cycle's budget
           ++path_solves_;
           pi.kappa_bound = relax == 0 ? &kappa_bound_ : nullptr;
@@ -665,7 +689,7 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
             chosen_ = index;
           }
         }
-        if (chosen_ < 0 && path_solves_ >= config::kMaxPathSolvesPerCycle) {
+        if (chosen_ < 0 && path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
           break;  // budget spent: the worst case stays bounded (WCET), the caller falls back
         }
         if (chosen_ < 0 && !infeasible_.full()) {
@@ -677,7 +701,7 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
         return FallbackReason::kNone;
       }
       drop = nearest_dynamic(n_static, skip, false, Scalar(0));
-      if (drop < 0 || path_solves_ >= config::kMaxPathSolvesPerCycle) {
+      if (drop < 0 || path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
         return FallbackReason::kPathQpFailed;
       }
     }
@@ -686,11 +710,11 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
   return FallbackReason::kPathQpFailed;
 }
 
-
-bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) {
-  std::array<Scalar, kSamples> s_guess{};
-  std::array<Scalar, kSamples> v_guess{};
-  speed::StParams stp;
+template <class Cfg>
+bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& out) {
+  StSamples s_guess{};
+  StSamples v_guess{};
+  StParams stp;
   stp.s0 = start.s;
   stp.v0 = start.v;
   stp.front = front_;
@@ -698,14 +722,14 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   stp.half_width = Scalar(0.5) * scene.ego.geometry.width;
   stp.limits = limits_;
   stp.kappa_ref = &kappa_;
-  speed::reference_profile(stp, config::kSpeedHorizon, s_guess, v_guess);  // step 0
+  speed::reference_profile(stp, Cfg::kSpeedHorizon, s_guess, v_guess);  // step 0
 
   decision::ConvexSpaceParams cp;
   cp.s_start = start.s;
   cp.s_end = start.s + length_;
   cp.vehicle_width = scene.ego.geometry.width;
   cp.ego_l = start.l;
-  decision::CoarseInput ci;
+  CoarseInput ci;
   ci.l_init = start.l;
   ci.v_init = start.v;
   ci.l_ref = scene.road.target_lane_offset;
@@ -713,7 +737,7 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   ci.stop_margin = settings_.stop_margin;
   ci.limits = limits_;
   ci.kappa_ref = &kappa_;
-  path::PathInput pi;
+  PathInput pi;
   pi.s0 = start.s;
   pi.length = length_;
   pi.l0 = start.l;
@@ -725,15 +749,15 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   pi.rear_reach = rear_;
   pi.kappa_max = limits_.kappa_max;
   pi.kappa_ref = &kappa_;
-  speed::SpeedInput si;
+  SpeedInput si;
   si.v0 = start.v;
   si.a0 = start.a;
   si.a_min = limits_.a_min;
   si.a_max = limits_.a_max;
 
   const std::size_t n_static = boxes_.size();
-  std::array<Scalar, kSamples> last_s{};
-  std::array<Scalar, kSamples> last_l{};
+  StSamples last_s{};
+  StSamples last_l{};
   // Warm start: a stitched cycle starts the iteration from the previous
   // plan's motion (still in path_ and speed_), so a plan that still holds is
   // confirmed by the first iteration instead of re-derived from step 0.
@@ -741,8 +765,8 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   if (warm) {
     const Scalar age = start.stitched_age;
     const Scalar s_at = speed_.eval(age, 0);
-    const Scalar t_end = config::kSpeedHorizon;
-    for (int k = 0; k < kSamples; ++k) {  // kStSamples
+    const Scalar t_end = Cfg::kSpeedHorizon;
+    for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
       const auto u = static_cast<std::size_t>(k);
       const Scalar t = age + kDt * static_cast<Scalar>(k);
       const Scalar beyond = t > t_end ? t - t_end : Scalar(0);  // past the old horizon: its last speed
@@ -753,7 +777,7 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
     }
   }
   bool safe = false;
-  for (int iter = 0; iter < config::kMaxPlannerIterations; ++iter) {  // the paper's iteration
+  for (int iter = 0; iter < Cfg::kMaxPlannerIterations; ++iter) {  // the paper's iteration
     out.iterations = iter + 1;
     // 1.1 + 1.2: convex space, decision and path QP, with dynamic obstacles at
     // their meeting places.
@@ -763,13 +787,14 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
       fallback(&scene, now_, why, out);
       return false;
     }
-    const decision::Decision& chosen = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
+    const Decision& chosen = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
     blocked_ = !chosen.reaches_end;
 
     // 1.3 ST graph and speed QP along the path.
     std::uint64_t t0 = ticks_.ticks();
     stp.stop_s = blocked_ ? chosen.reach + front_ - settings_.stop_margin : Scalar(-1);
-    st_.build(path_, std::span<const speed::DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
+    st_.build(path_,
+              std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
               stp, s_guess, v_guess, bounds_);
     speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
     ++out.qp_solves;
@@ -778,8 +803,10 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
       // Retry once conservatively: yield instead of overtaking, and the
       // curvature speed limit over every reachable position.
       stp.conservative = true;
-      st_.build(path_, std::span<const speed::DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
-                stp, s_guess, v_guess, bounds_);
+      st_.build(
+          path_,
+          std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
+          stp, s_guess, v_guess, bounds_);
       speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
       stp.conservative = false;
       ++out.qp_solves;
@@ -797,7 +824,7 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
     safe = first_collision(scene, now_, out) < 0;
     Scalar change_s = 0;
     Scalar change_l = 0;
-    for (int k = 0; k < kSamples; ++k) {  // kStSamples
+    for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
       const auto u = static_cast<std::size_t>(k);
       const Scalar s = speed_.eval(kDt * static_cast<Scalar>(k), 0);
       const Scalar l = out.trajectory[u].l;
@@ -834,7 +861,8 @@ bool Planner::iterate(const scene::Scene& scene, const Start& start, Plan& out) 
   return true;
 }
 
-void Planner::reset() {
+template <class Cfg>
+void BasicPlanner<Cfg>::reset() {
   have_previous_ = false;
   last_cycle_ok_ = false;
   holding_fallback_l_ = false;
@@ -843,7 +871,8 @@ void Planner::reset() {
   speed_opt_.reset();
 }
 
-PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
+template <class Cfg>
+PlanStatus BasicPlanner<Cfg>::plan(const PlanRequest& request, Plan& out) {
   const std::uint64_t t_begin = ticks_.ticks();
   out = Plan{};
   out.timing.tick_hz = ticks_.hz;
@@ -855,7 +884,7 @@ PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
     fallback(nullptr, request.now, FallbackReason::kNone, out);
     return out.status;
   }
-  const scene::Scene& scene = *request.scene;
+  const Scene& scene = *request.scene;
   now_ = request.now;
   const bool prepared = prepare(scene, request.now, out);
   out.timing.prepare = ticks_.ticks() - t_begin;
@@ -878,5 +907,10 @@ PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
   last_cycle_ok_ = out.status == PlanStatus::kOk;
   return out.status;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) template class BasicPlanner<C>;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::planner

@@ -17,7 +17,10 @@ namespace itp::qp {
                                                         const QpResult<DIMS>&);
 
 // Both scalar types explicitly (not Scalar and float, which coincide in the
-// float build and would instantiate twice).
+// float build and would instantiate twice), with the default configuration's
+// shapes. Other configurations instantiate the solver implicitly in the
+// stages that use it (two configurations may share a QP shape, which an
+// explicit instantiation here would define twice).
 ITP_QP_INSTANTIATE(PathQpDims<double>)
 ITP_QP_INSTANTIATE(SpeedQpDims<double>)
 ITP_QP_INSTANTIATE(CoarseQpDims<double>)

@@ -3,12 +3,14 @@
 #include <bit>
 #include <cmath>
 
+#include "itp/configurations.hpp"
 #include "itp/core/assert.hpp"
 #include "itp/geometry/angle.hpp"
 
 namespace itp::scene {
 
-ObstacleSample sample_pose(const DynamicObstacle& obstacle, Scalar t) {
+template <class Cfg>
+ObstacleSample sample_pose(const BasicDynamicObstacle<Cfg>& obstacle, Scalar t) {
   const auto& traj = obstacle.trajectory;
   ITP_EXPECTS(!traj.empty());
   const int n = static_cast<int>(traj.size());
@@ -27,7 +29,7 @@ ObstacleSample sample_pose(const DynamicObstacle& obstacle, Scalar t) {
     return out;
   }
   constexpr int kSteps =
-      static_cast<int>(std::bit_width(static_cast<unsigned>(config::kMaxPredictionSamples))) + 1;
+      static_cast<int>(std::bit_width(static_cast<unsigned>(Cfg::kMaxPredictionSamples))) + 1;
   int lo = 0;
   int hi = n - 1;
   for (int step = 0; step < kSteps && hi - lo > 1; ++step) {
@@ -47,5 +49,11 @@ ObstacleSample sample_pose(const DynamicObstacle& obstacle, Scalar t) {
   out.heading = geometry::wrap_angle(a.heading + f * geometry::wrap_angle(b.heading - a.heading));
   return out;
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) \
+  template ObstacleSample sample_pose<C>(const BasicDynamicObstacle<C>&, Scalar);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::scene

@@ -1,8 +1,10 @@
+#include "itp/scene/validation.hpp"
+
 #include <cmath>
 #include <initializer_list>
 
+#include "itp/configurations.hpp"
 #include "itp/geometry/reference_polyline.hpp"
-#include "itp/scene/validation.hpp"
 
 namespace itp::scene {
 namespace {
@@ -28,9 +30,10 @@ bool coordinate_ok(Scalar x, Scalar y) {
 
 bool size_ok(Scalar size) { return size > Scalar(0) && size <= config::kMaxObjectSize; }
 
-ValidationResult check_reference_line(const Scene& scene) {
+template <class Cfg>
+ValidationResult check_reference_line(const BasicScene<Cfg>& scene) {
   const auto& ref = scene.reference_line;
-  for (int i = 0; i < config::kMaxReferencePoints && i < static_cast<int>(ref.size()); ++i) {
+  for (int i = 0; i < Cfg::kMaxReferencePoints && i < static_cast<int>(ref.size()); ++i) {
     const Point2 p = ref[static_cast<std::size_t>(i)];
     if (!geometry::is_finite(p)) {
       return fail(R::kNonFiniteValue, i);
@@ -39,7 +42,7 @@ ValidationResult check_reference_line(const Scene& scene) {
       return fail(R::kCoordinateOutOfRange, i);
     }
   }
-  switch (geometry::check_reference_polyline(ref.span())) {
+  switch (geometry::check_reference_polyline<Cfg>(ref.span())) {
     case geometry::ReferenceLineStatus::kOk: return {};
     case geometry::ReferenceLineStatus::kTooFewPoints: return fail(R::kTooFewReferencePoints);
     case geometry::ReferenceLineStatus::kTooManyPoints: return fail(R::kTooManyReferencePoints);
@@ -52,7 +55,8 @@ ValidationResult check_reference_line(const Scene& scene) {
   return fail(R::kReferenceLineSharpTurn);
 }
 
-ValidationResult check_boundary(const Boundary& b, int which) {
+template <class Cfg>
+ValidationResult check_boundary(const BasicBoundary<Cfg>& b, int which) {
   if (!std::isfinite(b.offset)) {
     return fail(R::kNonFiniteValue, which);
   }
@@ -60,7 +64,7 @@ ValidationResult check_boundary(const Boundary& b, int which) {
     return fail(R::kBoundaryOutOfRange, which);
   }
   const int n = static_cast<int>(b.table.size());
-  for (int i = 0; i < config::kMaxBoundaryPoints && i < n; ++i) {
+  for (int i = 0; i < Cfg::kMaxBoundaryPoints && i < n; ++i) {
     const BoundaryPoint p = b.table[static_cast<std::size_t>(i)];
     if (!all_finite({p.s, p.l})) {
       return fail(R::kNonFiniteValue, which, i);
@@ -75,7 +79,8 @@ ValidationResult check_boundary(const Boundary& b, int which) {
   return {};
 }
 
-ValidationResult check_road(const Road& road) {
+template <class Cfg>
+ValidationResult check_road(const BasicRoad<Cfg>& road) {
   if (!all_finite({road.lane_width, road.target_lane_offset, road.speed_limit})) {
     return fail(R::kNonFiniteValue);
   }
@@ -93,8 +98,8 @@ ValidationResult check_road(const Road& road) {
   if (!(road.left.at(Scalar(0)) > road.right.at(Scalar(0)))) {
     return fail(R::kBoundariesCrossed);
   }
-  for (const Boundary* b : {&road.left, &road.right}) {  // 2 boundaries
-    for (int i = 0; i < config::kMaxBoundaryPoints && i < static_cast<int>(b->table.size()); ++i) {
+  for (const BasicBoundary<Cfg>* b : {&road.left, &road.right}) {  // 2 boundaries
+    for (int i = 0; i < Cfg::kMaxBoundaryPoints && i < static_cast<int>(b->table.size()); ++i) {
       const Scalar s = b->table[static_cast<std::size_t>(i)].s;
       if (!(road.left.at(s) > road.right.at(s))) {
         return fail(R::kBoundariesCrossed, b == &road.left ? 0 : 1, i);
@@ -110,7 +115,8 @@ ValidationResult check_road(const Road& road) {
   return {};
 }
 
-ValidationResult check_ego(const Scene& scene) {
+template <class Cfg>
+ValidationResult check_ego(const BasicScene<Cfg>& scene) {
   const EgoState& s = scene.ego.state;
   const VehicleGeometry& g = scene.ego.geometry;
   const VehicleLimits& lim = scene.ego.limits;
@@ -140,16 +146,17 @@ ValidationResult check_ego(const Scene& scene) {
         lim.kappa_max > Scalar(0) && lim.kappa_max <= config::kMaxAbsoluteCurvature)) {
     return fail(R::kEgoLimitsOutOfRange);
   }
-  if (geometry::distance_to_polyline(scene.reference_line.span(), {s.x, s.y}) >
+  if (geometry::distance_to_polyline<Cfg>(scene.reference_line.span(), {s.x, s.y}) >
       config::kMaxEgoOffsetFromReference) {
     return fail(R::kEgoFarFromReferenceLine);
   }
   return {};
 }
 
-ValidationResult check_static(const Scene& scene) {
+template <class Cfg>
+ValidationResult check_static(const BasicScene<Cfg>& scene) {
   const auto& obs = scene.static_obstacles;
-  for (int i = 0; i < config::kMaxStaticObstacles && i < static_cast<int>(obs.size()); ++i) {
+  for (int i = 0; i < Cfg::kMaxStaticObstacles && i < static_cast<int>(obs.size()); ++i) {
     const StaticObstacle& o = obs[static_cast<std::size_t>(i)];
     if (!all_finite({o.x, o.y, o.heading, o.length, o.width})) {
       return fail(R::kNonFiniteValue, i);
@@ -164,10 +171,11 @@ ValidationResult check_static(const Scene& scene) {
   return {};
 }
 
-ValidationResult check_dynamic(const Scene& scene) {
+template <class Cfg>
+ValidationResult check_dynamic(const BasicScene<Cfg>& scene) {
   const auto& obs = scene.dynamic_obstacles;
-  for (int i = 0; i < config::kMaxDynamicObstacles && i < static_cast<int>(obs.size()); ++i) {
-    const DynamicObstacle& o = obs[static_cast<std::size_t>(i)];
+  for (int i = 0; i < Cfg::kMaxDynamicObstacles && i < static_cast<int>(obs.size()); ++i) {
+    const BasicDynamicObstacle<Cfg>& o = obs[static_cast<std::size_t>(i)];
     if (!all_finite({o.length, o.width})) {
       return fail(R::kNonFiniteValue, i);
     }
@@ -178,7 +186,7 @@ ValidationResult check_dynamic(const Scene& scene) {
       return fail(R::kEmptyTrajectory, i);
     }
     const int n = static_cast<int>(o.trajectory.size());
-    for (int k = 0; k < config::kMaxPredictionSamples && k < n; ++k) {
+    for (int k = 0; k < Cfg::kMaxPredictionSamples && k < n; ++k) {
       const TimedPose& p = o.trajectory[static_cast<std::size_t>(k)];
       if (!all_finite({p.t, p.x, p.y, p.heading, p.v})) {
         return fail(R::kNonFiniteValue, i, k);
@@ -201,14 +209,15 @@ ValidationResult check_dynamic(const Scene& scene) {
 }
 
 // Ids must be unique over static and dynamic obstacles (decisions name them).
-ValidationResult check_ids(const Scene& scene) {
-  constexpr int kMax = config::kMaxObstacles;
-  std::int32_t ids[kMax] = {};
+template <class Cfg>
+ValidationResult check_ids(const BasicScene<Cfg>& scene) {
+  constexpr int kMax = Cfg::kMaxObstacles;
+  std::int32_t ids[std::size_t{kMax}] = {};
   int count = 0;
   for (const StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
     ids[count++] = o.id;
   }
-  for (const DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+  for (const BasicDynamicObstacle<Cfg>& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
     ids[count++] = o.id;
   }
   for (int i = 0; i < kMax && i < count; ++i) {
@@ -223,7 +232,8 @@ ValidationResult check_ids(const Scene& scene) {
 
 }  // namespace
 
-ValidationResult validate(const Scene& scene) {
+template <class Cfg>
+ValidationResult validate(const BasicScene<Cfg>& scene) {
   if (const ValidationResult r = check_reference_line(scene); !r.ok()) return r;
   if (const ValidationResult r = check_road(scene.road); !r.ok()) return r;
   if (const ValidationResult r = check_ego(scene); !r.ok()) return r;
@@ -231,5 +241,10 @@ ValidationResult validate(const Scene& scene) {
   if (const ValidationResult r = check_dynamic(scene); !r.ok()) return r;
   return check_ids(scene);
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) template ValidationResult validate<C>(const BasicScene<C>&);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::scene

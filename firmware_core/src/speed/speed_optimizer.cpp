@@ -3,18 +3,18 @@
 #include <cmath>
 #include <limits>
 
+#include "itp/configurations.hpp"
 #include "itp/qp/hot_or_cold.hpp"
 #include "itp/spline/quintic_block.hpp"
 
 namespace itp::speed {
 namespace {
 
-constexpr int kB = config::kSpeedBlocks;
-
 int var(int knot, int state) { return 3 * knot + state; }
 
-bool finite_bounds(const SpeedBounds& b) {
-  for (int k = 0; k <= kSpeedSamples; ++k) {  // kSpeedSamples + 1
+template <class Cfg>
+bool finite_bounds(const BasicSpeedBounds<Cfg>& b) {
+  for (int k = 0; k <= Cfg::kSpeedSamples; ++k) {  // Cfg::kSpeedSamples + 1
     const auto u = static_cast<std::size_t>(k);
     if (std::isnan(b.s_lo[u]) || std::isnan(b.s_hi[u]) || std::isnan(b.v_lo[u]) ||
         std::isnan(b.v_hi[u]) || !std::isfinite(b.s_ref[u]) || !std::isfinite(b.v_ref[u])) {
@@ -26,20 +26,22 @@ bool finite_bounds(const SpeedBounds& b) {
 
 }  // namespace
 
-Scalar SpeedResult::eval(Scalar t, int derivative) const {
-  return spline::eval_spline(coefficients.data(), kB, h, Scalar(0), t, derivative);
+template <class Cfg>
+Scalar BasicSpeedResult<Cfg>::eval(Scalar t, int derivative) const {
+  return spline::eval_spline(coefficients.data(), Cfg::kSpeedBlocks, h, Scalar(0), t, derivative);
 }
 
-void SpeedOptimizer::build(const SpeedInput& in, const SpeedBounds& bd, const SpeedWeights& w,
-                           Scalar h) {
+template <class Cfg>
+void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd,
+                                     const SpeedWeights& w, Scalar h) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
-  static_cast<void>(problem_.reset(config::kSpeedVariables, qp::kSpeedQpRows));
+  static_cast<void>(problem_.reset(Cfg::kSpeedVariables, Cfg::kSpeedQpRows));
   const spline::Matrix6 block_h =
       Scalar(2) * (w.s_up * spline::gram(h, 0) + w.v * spline::gram(h, 1) +
                    w.a * spline::gram(h, 2) + w.jerk * spline::gram(h, 3));
-  const int per = kSpeedSamplesPerBlock;
+  const int per = Cfg::kSpeedSamplesPerBlock;
   int row = 0;
-  for (int b = 0; b < kB; ++b) {  // kSpeedBlocks
+  for (int b = 0; b < Cfg::kSpeedBlocks; ++b) {  // kSpeedBlocks
     const int v0 = var(b, 0);
     for (int i = 0; i < 6; ++i) {  // block Hessian into the band
       for (int j = 0; j <= i; ++j) {
@@ -77,7 +79,7 @@ void SpeedOptimizer::build(const SpeedInput& in, const SpeedBounds& bd, const Sp
       row += 3;
     }
   }
-  for (int j = 1; j < kSpeedKnots; ++j) {  // knots after the start
+  for (int j = 1; j < Cfg::kSpeedKnots; ++j) {  // knots after the start
     const auto u = static_cast<std::size_t>(j * per);
     problem_.lb[var(j, 0)] = bd.s_lo[u];
     problem_.ub[var(j, 0)] = bd.s_hi[u];
@@ -91,10 +93,11 @@ void SpeedOptimizer::build(const SpeedInput& in, const SpeedBounds& bd, const Sp
   problem_.lb[var(0, 2)] = problem_.ub[var(0, 2)] = in.a0;
 }
 
-void SpeedOptimizer::solve(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w,
-                           SpeedResult& out) {
+template <class Cfg>
+void BasicSpeedOptimizer<Cfg>::solve(const SpeedInput& in, const SpeedBounds& bounds,
+                                     const SpeedWeights& w, SpeedResult& out) {
   out = SpeedResult{};
-  const Scalar h = in.horizon / static_cast<Scalar>(kB);
+  const Scalar h = in.horizon / static_cast<Scalar>(Cfg::kSpeedBlocks);
   if (!(h > 0) || !std::isfinite(in.v0) || !std::isfinite(in.a0) || !finite_bounds(bounds)) {
     out.status = qp::QpStatus::kInvalidInput;
     return;
@@ -114,11 +117,18 @@ void SpeedOptimizer::solve(const SpeedInput& in, const SpeedBounds& bounds, cons
   out.iterations = result_.iterations;
   out.h = h;
   if (qp::is_usable(st)) {
-    for (int i = 0; i < config::kSpeedVariables; ++i) {  // 45
+    for (int i = 0; i < Cfg::kSpeedVariables; ++i) {  // 45
       out.knots[static_cast<std::size_t>(i)] = result_.x[i];
     }
-    spline::block_coefficients(h, out.knots.data(), kB, out.coefficients.data());
+    spline::block_coefficients(h, out.knots.data(), Cfg::kSpeedBlocks, out.coefficients.data());
   }
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)             \
+  template struct BasicSpeedResult<C>; \
+  template class BasicSpeedOptimizer<C>;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::speed

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "itp/configurations.hpp"
+
 namespace itp::speed {
 namespace {
 
@@ -10,14 +12,17 @@ constexpr int kProbes = 12;                      // path probes across an obstac
 constexpr int kReachProbes = 24;                 // conservative retry: positions probed per sample
 constexpr Scalar kKappaFloor = Scalar(1e-4);     // [1/m]
 constexpr Scalar kMovingAlong = Scalar(0.5);     // [m/s] slower is not "moving along the path"
-constexpr Scalar kDt = config::kSpeedHorizon / static_cast<Scalar>(kSpeedSamples);  // [s]
+template <class Cfg>
+constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);  // [s]
 
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
 
 // Speed allowed at path s: the road limit and lateral acceleration on the
 // path's curvature (κ_ref + l'', the small-angle curvature of the path).
-Scalar speed_limit_at(const path::PathResult& path, const StParams& p, Scalar s) {
+template <class Cfg>
+Scalar speed_limit_at(const path::BasicPathResult<Cfg>& path, const BasicStParams<Cfg>& p,
+                      Scalar s) {
   const Scalar kref = p.kappa_ref != nullptr ? p.kappa_ref->at(s) : Scalar(0);
   const Scalar kappa = std::fabs(kref + path.eval(s, 2));
   Scalar v = p.limits.speed_limit;
@@ -28,7 +33,9 @@ Scalar speed_limit_at(const path::PathResult& path, const StParams& p, Scalar s)
 }
 
 // Does the ego's swept path overlap the box? Probes the path across the box's s-extent.
-bool path_conflicts(const path::PathResult& path, const StParams& p, const decision::SlBox& b) {
+template <class Cfg>
+bool path_conflicts(const path::BasicPathResult<Cfg>& path, const BasicStParams<Cfg>& p,
+                    const decision::SlBox& b) {
   const Scalar reach = p.half_width + p.lateral_margin;
   for (int i = 0; i <= kProbes; ++i) {  // kProbes + 1 probes
     const Scalar s = b.s_min + (b.s_max - b.s_min) * static_cast<Scalar>(i) / static_cast<Scalar>(kProbes);
@@ -61,8 +68,10 @@ Scalar braking_distance(Scalar v0, Scalar a_min, Scalar t) {
 
 // Picks the decision from where the ego is expected to be (s_guess, v_guess)
 // when the obstacle first meets the swept path (t1).
-void classify(StDecision& d, const StParams& p, const std::array<Scalar, kStSamples>& s_guess,
-              const std::array<Scalar, kStSamples>& v_guess) {
+template <class Cfg>
+void classify(BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
+              const std::array<Scalar, Cfg::kStSamples>& s_guess,
+              const std::array<Scalar, Cfg::kStSamples>& v_guess) {
   if (d.k1 < 0) {
     d.decision = Longitudinal::kIgnore;
     return;
@@ -76,7 +85,7 @@ void classify(StDecision& d, const StParams& p, const std::array<Scalar, kStSamp
     return;
   }
   const bool moving_along = d.speed[u1] > kMovingAlong;
-  const bool lasts = d.k2 == kStSamples - 1;
+  const bool lasts = d.k2 == Cfg::kStSamples - 1;
   if (moving_along && lasts && d.s_lo[u1] > 0) {
     d.decision = Longitudinal::kFollow;
     return;
@@ -88,9 +97,10 @@ void classify(StDecision& d, const StParams& p, const std::array<Scalar, kStSamp
 }
 
 // Tightens the speed QP's bounds by one obstacle's decision (eq. 15-17).
-void apply(const StDecision& d, const StParams& p, const std::array<Scalar, kStSamples>& s_guess,
-           SpeedBounds& b) {
-  for (int k = d.k1; d.decision != Longitudinal::kIgnore && k <= d.k2; ++k) {  // <= kStSamples
+template <class Cfg>
+void apply(const BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
+           const std::array<Scalar, Cfg::kStSamples>& s_guess, BasicSpeedBounds<Cfg>& b) {
+  for (int k = d.k1; d.decision != Longitudinal::kIgnore && k <= d.k2; ++k) {  // <= Cfg::kStSamples
     const auto u = static_cast<std::size_t>(k);
     if (!d.conflict[u]) {
       continue;
@@ -137,12 +147,14 @@ const char* to_string(Longitudinal decision) {
   return "unknown";
 }
 
-void reference_profile(const StParams& p, Scalar horizon, std::array<Scalar, kStSamples>& s_ref,
-                       std::array<Scalar, kStSamples>& v_ref) {
-  const Scalar dt = horizon / static_cast<Scalar>(kSpeedSamples);
+template <class Cfg>
+void reference_profile(const BasicStParams<Cfg>& p, Scalar horizon,
+                       std::array<Scalar, Cfg::kStSamples>& s_ref,
+                       std::array<Scalar, Cfg::kStSamples>& v_ref) {
+  const Scalar dt = horizon / static_cast<Scalar>(Cfg::kSpeedSamples);
   Scalar s = 0;
   Scalar v = max_of(p.v0, Scalar(0));
-  for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+  for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
     const Scalar kref = p.kappa_ref != nullptr ? std::fabs(p.kappa_ref->at(p.s0 + s)) : Scalar(0);
     Scalar lim = p.limits.speed_limit;
     if (kref > kKappaFloor) {
@@ -156,25 +168,26 @@ void reference_profile(const StParams& p, Scalar horizon, std::array<Scalar, kSt
   }
 }
 
-void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> tracks,
-                    const StParams& p, const std::array<Scalar, kStSamples>& s_guess,
-                    const std::array<Scalar, kStSamples>& v_guess, SpeedBounds& b) {
+template <class Cfg>
+void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTrack> tracks,
+                              const StParams& p, const std::array<Scalar, Cfg::kStSamples>& s_guess,
+                              const std::array<Scalar, Cfg::kStSamples>& v_guess, SpeedBounds& b) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
   decisions_.clear();
   // s_up: the furthest the ego could be, as the paper's "as fast as allowed".
-  std::array<Scalar, kStSamples> s_ref{};
-  std::array<Scalar, kStSamples> v_ref{};
-  reference_profile(p, config::kSpeedHorizon, s_ref, v_ref);
+  std::array<Scalar, Cfg::kStSamples> s_ref{};
+  std::array<Scalar, Cfg::kStSamples> v_ref{};
+  reference_profile(p, Cfg::kSpeedHorizon, s_ref, v_ref);
   // The road: speed limit along the path at the guessed positions (or, in
   // the conservative retry, the lowest over the reachable range).
-  for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+  for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
     const auto u = static_cast<std::size_t>(k);
     b.s_lo[u] = 0;
     b.s_hi[u] = inf;
     b.v_lo[u] = 0;
     b.v_hi[u] = speed_limit_at(path, p, p.s0 + s_guess[u]);
     if (p.conservative) {
-      const Scalar t = kDt * static_cast<Scalar>(k);
+      const Scalar t = kDt<Cfg> * static_cast<Scalar>(k);
       const Scalar lo = braking_distance(max_of(p.v0, Scalar(0)), p.limits.a_min, t);
       for (int j = 0; j <= kReachProbes; ++j) {  // kReachProbes + 1 positions
         const Scalar s = lo + (s_ref[u] - lo) * static_cast<Scalar>(j) / static_cast<Scalar>(kReachProbes);
@@ -183,12 +196,12 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
     }
     b.v_ref[u] = b.v_hi[u];
   }
-  for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+  for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
     b.s_ref[static_cast<std::size_t>(k)] = s_ref[static_cast<std::size_t>(k)];
   }
   // A blocked corridor: the front bumper stays before stop_s.
   if (p.stop_s >= 0) {
-    for (auto& s : b.s_hi) {  // kStSamples
+    for (auto& s : b.s_hi) {  // Cfg::kStSamples
       s = min_of(s, p.stop_s - p.s0 - p.front);
     }
   }
@@ -197,7 +210,7 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
     d.id = tr.id;
     Scalar prev_center = 0;
     bool have_prev = false;
-    for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+    for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
       const auto u = static_cast<std::size_t>(k);
       if (!tr.present[u]) {
         have_prev = false;
@@ -205,7 +218,7 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
       }
       const decision::SlBox& box = tr.box[u];
       const Scalar center = Scalar(0.5) * (box.s_min + box.s_max);
-      d.speed[u] = have_prev ? (center - prev_center) / kDt : Scalar(0);
+      d.speed[u] = have_prev ? (center - prev_center) / kDt<Cfg> : Scalar(0);
       prev_center = center;
       have_prev = true;
       if (path_conflicts(path, p, box)) {
@@ -216,7 +229,8 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
         d.k2 = k;
       }
     }
-    if (d.k1 >= 0 && d.k1 + 1 < kStSamples) {  // speed at t1 from the next sample when t1 is the first
+    if (d.k1 >= 0 &&
+        d.k1 + 1 < Cfg::kStSamples) {  // speed at t1 from the next sample when t1 is the first
       const auto u1 = static_cast<std::size_t>(d.k1);
       if (d.speed[u1] == 0 && tr.present[u1 + 1]) {
         d.speed[u1] = d.speed[u1 + 1];
@@ -241,7 +255,7 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
       continue;
     }
     bool feasible = true;
-    for (int k = d.k1; k <= d.k2; ++k) {  // <= kStSamples
+    for (int k = d.k1; k <= d.k2; ++k) {  // <= Cfg::kStSamples
       const auto u = static_cast<std::size_t>(k);
       if (d.conflict[u] && d.s_hi[u] > min_of(b.s_hi[u], s_ref[u]) - p.longitudinal_margin) {
         feasible = false;
@@ -254,9 +268,9 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
   }
   // Never ask for less than full braking can give: keep s_hi reachable (a
   // collision that braking cannot avoid is caught by the collision check).
-  for (int k = 0; k < kStSamples; ++k) {  // kStSamples
+  for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
     const auto u = static_cast<std::size_t>(k);
-    const Scalar t = kDt * static_cast<Scalar>(k);
+    const Scalar t = kDt<Cfg> * static_cast<Scalar>(k);
     const Scalar v0 = max_of(p.v0, Scalar(0));
     const Scalar s_min = braking_distance(v0, p.limits.a_min, t);
     const Scalar v_min = max_of(v0 + p.limits.a_min * max_of(t - kBrakeOnset, Scalar(0)), Scalar(0));
@@ -265,5 +279,14 @@ void StGraph::build(const path::PathResult& path, std::span<const DynamicTrack> 
     b.v_hi[u] = max_of(max_of(b.v_hi[u], b.v_lo[u]), v_min + Scalar(0.01));
   }
 }
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                               \
+  template class BasicStGraph<C>;                                        \
+  template void reference_profile<C>(const BasicStParams<C>&, Scalar,    \
+                                     std::array<Scalar, C::kStSamples>&, \
+                                     std::array<Scalar, C::kStSamples>&);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
 
 }  // namespace itp::speed

@@ -48,16 +48,19 @@ class FirmwareService {
   std::array<std::uint8_t, link::kMaxWireFrameBytes> tx_{};          // encoded reply
   std::uint32_t replies_ = 0;
 
+  // The planner configuration this firmware is built for.
+  using Config = DefaultConfig;
+
   // QpSolve service: the largest planner QP shape (the path QP).
-  using TargetQpDims = qp::PathQpDims<Scalar>;
+  using TargetQpDims = qp::PathQpDims<Scalar, Config>;
   qp::QpProblem<TargetQpDims> qp_problem_{};
   qp::QpWorkspace<TargetQpDims> qp_workspace_{};
   qp::QpResult<TargetQpDims> qp_result_{};
 
   // Planning service: one cycle per Scene message.
-  scene::Scene scene_{};
-  planner::Planner planner_{};
-  planner::Plan plan_{};
+  scene::BasicScene<Config> scene_{};
+  planner::BasicPlanner<Config> planner_{};
+  planner::BasicPlan<Config> plan_{};
 };
 
 }  // namespace itp::app

@@ -19,8 +19,6 @@
 
 namespace itp::decision {
 
-using CoarseDims = qp::CoarseQpDims<Scalar>;
-
 struct CoarseWeights {
   // Eq. (2), the coarse QP.
   Scalar l_smooth = Scalar(10);   // second difference of l   [1/m^2]
@@ -36,7 +34,8 @@ struct CoarseWeights {
   Scalar a_lon_var = Scalar(0.1);     // w24 x var a_lon
 };
 
-struct CoarseInput {
+template <class Cfg>
+struct BasicCoarseInput {
   Scalar l_init = 0;       // [m] ego's l (or the stitched plan's)
   Scalar v_init = 0;       // [m/s] ego's speed
   Scalar l_ref = 0;        // [m] target lane centre
@@ -44,18 +43,19 @@ struct CoarseInput {
   Scalar lateral_margin = Scalar(0.2);    // [m] kept from zone edges, each side
   Scalar stop_margin = Scalar(3.0);       // [m] distance kept before a blocked corridor's end
   VehicleLimits limits;
-  const CurvatureProfile* kappa_ref = nullptr;  // κ_ref(s); null = straight road
+  const BasicCurvatureProfile<Cfg>* kappa_ref = nullptr;  // κ_ref(s); null = straight road
 };
 
-struct CoarseResult {
+template <class Cfg>
+struct BasicCoarseResult {
   qp::QpStatus status = qp::QpStatus::kInvalidInput;
   int samples = 0;
   Scalar ds = 0;                                    // [m] sample spacing
-  std::array<Scalar, config::kCoarseSamples> s{};   // [m]
-  std::array<Scalar, config::kCoarseSamples> l{};   // [m]
-  std::array<Scalar, config::kCoarseSamples> t{};   // [s]
-  std::array<Scalar, config::kCoarseSamples> l_lb{}, l_ub{};  // [m] corridor at the samples
-  std::array<Scalar, config::kCoarseSamples> t_lb{};          // [s]
+  std::array<Scalar, Cfg::kCoarseSamples> s{};      // [m]
+  std::array<Scalar, Cfg::kCoarseSamples> l{};      // [m]
+  std::array<Scalar, Cfg::kCoarseSamples> t{};      // [s]
+  std::array<Scalar, Cfg::kCoarseSamples> l_lb{}, l_ub{};  // [m] corridor at the samples
+  std::array<Scalar, Cfg::kCoarseSamples> t_lb{};          // [s]
   Scalar kappa_mean = 0, kappa_var = 0;   // |κ| mean [1/m], variance [1/m^2]
   Scalar a_lat_mean = 0, a_lat_var = 0;   // [m/s^2], [m^2/s^4]
   Scalar a_lon_mean = 0, a_lon_var = 0;
@@ -67,21 +67,29 @@ struct CoarseResult {
 
 // Owns the coarse QP's problem, workspace and result (about 50 KB with the
 // default sizes); one instance serves every decision of a cycle.
-class CoarseEvaluator {
+template <class Cfg>
+class BasicCoarseEvaluator {
  public:
+  using CoarseInput = BasicCoarseInput<Cfg>;
+  using CoarseResult = BasicCoarseResult<Cfg>;
+  using ConvexSpace = BasicConvexSpace<Cfg>;
+  using Decision = BasicDecision<Cfg>;
+
   // Forget the factorisation: the next solve is cold.
   void reset() { have_factor_ = false; }
-  void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
+  void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
   void evaluate(const ConvexSpace& space, const Decision& decision, const CoarseInput& in,
                 const CoarseWeights& w, CoarseResult& out);
 
  private:
+  static constexpr int kN = Cfg::kCoarseSamples;
   bool sample_corridor(const ConvexSpace& space, const Decision& decision, const CoarseInput& in,
                        CoarseResult& out) const;
   void build_qp(const CoarseInput& in, const CoarseWeights& w, const CoarseResult& out);
   void score(const Decision& decision, const CoarseInput& in, const CoarseWeights& w,
              CoarseResult& out) const;
 
+  using CoarseDims = qp::CoarseQpDims<Scalar, Cfg>;
   qp::QpProblem<CoarseDims> problem_{};
   qp::QpWorkspace<CoarseDims> workspace_{};
   qp::QpResult<CoarseDims> result_{};
@@ -90,14 +98,19 @@ class CoarseEvaluator {
   // after the first is a hotstart (new g and bounds, same factorisation).
   CoarseWeights factored_weights_{};
   bool have_factor_ = false;
-  const qp::PlannerQpObserver* observer_ = nullptr;
+  const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
 
 // Earliest arrival times t_lb at `count` samples s_0 + i Δs from a forward /
 // backward kinematic pass: speed limit, lateral acceleration on κ_ref,
 // acceleration and braking limits; `stop_at_end` brings the speed to zero at
 // the last sample (a blocked corridor).
-void earliest_arrival(const CoarseInput& in, Scalar s0, Scalar ds, int count, bool stop_at_end,
-                      Scalar* t_lb);
+template <class Cfg>
+void earliest_arrival(const BasicCoarseInput<Cfg>& in, Scalar s0, Scalar ds, int count,
+                      bool stop_at_end, Scalar* t_lb);
+
+using CoarseInput = BasicCoarseInput<DefaultConfig>;
+using CoarseResult = BasicCoarseResult<DefaultConfig>;
+using CoarseEvaluator = BasicCoarseEvaluator<DefaultConfig>;
 
 }  // namespace itp::decision

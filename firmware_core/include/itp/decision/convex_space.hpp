@@ -4,7 +4,7 @@
 // s-slice the free l-intervals between obstacles are the zones (Zone_i_j:
 // slice i, gap j). Zones narrower than the vehicle are dropped. A zone links
 // to a zone of the next slice when their l-intervals overlap by at least the
-// vehicle width. Fixed capacity: kMaxSlices x kMaxZonesPerSlice.
+// vehicle width. Fixed capacity: Cfg::kMaxSlices x Cfg::kMaxZonesPerSlice.
 #include <cstdint>
 #include <span>
 
@@ -51,7 +51,7 @@ struct Slice {
 
 struct ConvexSpaceParams {
   Scalar s_start = 0;                  // [m] ego's s
-  Scalar s_end = config::kPathLength;  // [m] end of the SL horizon
+  Scalar s_end = 0;                    // [m] end of the SL horizon (> s_start)
   Scalar vehicle_width = Scalar(1.9);  // [m] narrowest usable zone and link
   Scalar ego_l = 0;                    // [m] picks the start zone
 };
@@ -64,9 +64,10 @@ enum class ConvexSpaceStatus : std::uint8_t {
 
 const char* to_string(ConvexSpaceStatus status);
 
-struct ConvexSpace {
-  StaticVector<Slice, config::kMaxSlices> slices;
-  StaticVector<Zone, config::kMaxZones> zones;
+template <class Cfg>
+struct BasicConvexSpace {
+  StaticVector<Slice, Cfg::kMaxSlices> slices;
+  StaticVector<Zone, Cfg::kMaxZones> zones;
   std::int16_t start_zone = -1;  // the ego's zone in slice 0
   Scalar s_start = 0;            // [m]
   Scalar s_end = 0;              // [m]
@@ -77,9 +78,12 @@ struct ConvexSpace {
   const Zone& successor(const Zone& z, int bit) const;
 };
 
-// `boxes` may hold at most config::kMaxObstacles entries; boxes outside
+// `boxes` may hold at most Cfg::kMaxObstacles entries; boxes outside
 // [s_start, s_end] are ignored.
-ConvexSpaceStatus build_convex_space(const RoadSl& road, std::span<const SlBox> boxes,
-                                     const ConvexSpaceParams& params, ConvexSpace& out);
+template <class Cfg>
+ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes,
+                                     const ConvexSpaceParams& params, BasicConvexSpace<Cfg>& out);
+
+using ConvexSpace = BasicConvexSpace<DefaultConfig>;
 
 }  // namespace itp::decision

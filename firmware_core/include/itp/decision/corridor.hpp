@@ -18,6 +18,8 @@ struct LateralInterval {
 // clamped into the zone (a free road has no "middle" worth seeking).
 Scalar zone_reference(const Zone& zone, Scalar l_target, Scalar half_width);
 
-LateralInterval corridor_at(const ConvexSpace& space, const Decision& decision, Scalar s);
+template <class Cfg>
+LateralInterval corridor_at(const BasicConvexSpace<Cfg>& space, const BasicDecision<Cfg>& decision,
+                            Scalar s);
 
 }  // namespace itp::decision

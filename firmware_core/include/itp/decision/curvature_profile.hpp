@@ -7,12 +7,14 @@
 
 namespace itp::decision {
 
-inline constexpr int kCurvatureSamples = 101;  // 1 m spacing over the 100 m horizon
+// Cfg::kCurvatureSamples samples: 1 m spacing over the SL horizon.
+template <class Cfg>
+struct BasicCurvatureProfile {
+  static constexpr int kSamples = Cfg::kCurvatureSamples;
 
-struct CurvatureProfile {
   Scalar s0 = 0;                   // [m] first sample
   Scalar ds = Scalar(1);           // [m] spacing
-  std::array<Scalar, kCurvatureSamples> kappa{};  // [1/m]
+  std::array<Scalar, Cfg::kCurvatureSamples> kappa{};  // [1/m]
 
   // Linear interpolation, clamped at the ends.
   Scalar at(Scalar s) const {
@@ -21,13 +23,15 @@ struct CurvatureProfile {
       return kappa[0];
     }
     const int i = static_cast<int>(u);
-    if (i >= kCurvatureSamples - 1) {
-      return kappa[kCurvatureSamples - 1];
+    if (i >= kSamples - 1) {
+      return kappa[kSamples - 1];
     }
     const Scalar f = u - static_cast<Scalar>(i);
     return kappa[static_cast<std::size_t>(i)] * (Scalar(1) - f) +
            kappa[static_cast<std::size_t>(i + 1)] * f;
   }
 };
+
+using CurvatureProfile = BasicCurvatureProfile<DefaultConfig>;
 
 }  // namespace itp::decision

@@ -26,11 +26,20 @@ struct DecisionWeights {
   CoarseWeights coarse;
 };
 
-class DecisionStage {
+template <class Cfg>
+class BasicDecisionStage {
  public:
+  using RoadSl = BasicRoadSl<Cfg>;
+  using ConvexSpace = BasicConvexSpace<Cfg>;
+  using DecisionSet = BasicDecisionSet<Cfg>;
+  using CoarseInput = BasicCoarseInput<Cfg>;
+  using CoarseResult = BasicCoarseResult<Cfg>;
+
   void reset() { evaluator_.reset(); }
-  void set_observer(const qp::PlannerQpObserver* observer) { evaluator_.set_observer(observer); }
-  DecisionStatus run(const RoadSl& road, std::span<const SlBox> boxes,
+  void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) {
+    evaluator_.set_observer(observer);
+  }
+  DecisionStatus run(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes,
                      const ConvexSpaceParams& params, const CoarseInput& input,
                      const DecisionWeights& weights);
 
@@ -44,9 +53,11 @@ class DecisionStage {
  private:
   ConvexSpace space_{};
   DecisionSet set_{};
-  CoarseEvaluator evaluator_{};
-  std::array<CoarseResult, config::kKeptDecisions> coarse_{};
+  BasicCoarseEvaluator<Cfg> evaluator_{};
+  std::array<CoarseResult, Cfg::kKeptDecisions> coarse_{};
   int best_ = -1;
 };
+
+using DecisionStage = BasicDecisionStage<DefaultConfig>;
 
 }  // namespace itp::decision

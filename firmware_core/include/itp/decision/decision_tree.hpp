@@ -29,8 +29,9 @@ struct GeometricWeights {
   Scalar blocked = Scalar(10);  // x share of the horizon the corridor does not reach
 };
 
-struct Decision {
-  StaticVector<std::int16_t, config::kMaxSlices> zones;  // one zone per slice, from slice 0
+template <class Cfg>
+struct BasicDecision {
+  StaticVector<std::int16_t, Cfg::kMaxSlices> zones;  // one zone per slice, from slice 0
   Scalar area_cost = 0;      // sum of zone area costs (unweighted)
   Scalar lane_cost = 0;      // sum of zone lane costs (unweighted)
   Scalar link_cost = 0;      // sum of link costs (unweighted)
@@ -40,15 +41,17 @@ struct Decision {
   bool reaches_end = false;  // false: blocked before the horizon
 };
 
-struct DecisionSet {
-  StaticVector<Decision, config::kKeptDecisions> kept;  // ascending geometric cost
+template <class Cfg>
+struct BasicDecisionSet {
+  StaticVector<BasicDecision<Cfg>, Cfg::kKeptDecisions> kept;  // ascending geometric cost
   int nodes_expanded = 0;
   int complete_paths = 0;  // leaves reached (each a candidate decision)
   bool truncated = false;  // the node budget ran out before the search finished
 };
 
-void enumerate_decisions(const ConvexSpace& space, const GeometricWeights& weights,
-                         DecisionSet& out);
+template <class Cfg>
+void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeights& weights,
+                         BasicDecisionSet<Cfg>& out);
 
 // Which side of a box a decision passes.
 enum class Side : std::uint8_t {
@@ -58,6 +61,11 @@ enum class Side : std::uint8_t {
 };
 
 // Geometric: the corridor's zones in the slices the box spans lie left or right of it.
-Side side_of(const ConvexSpace& space, const Decision& decision, const SlBox& box);
+template <class Cfg>
+Side side_of(const BasicConvexSpace<Cfg>& space, const BasicDecision<Cfg>& decision,
+             const SlBox& box);
+
+using Decision = BasicDecision<DefaultConfig>;
+using DecisionSet = BasicDecisionSet<DefaultConfig>;
 
 }  // namespace itp::decision

@@ -10,14 +10,15 @@ namespace itp::decision {
 
 // l(s), piecewise linear through (s, l) points sorted by s; constant beyond
 // the ends; a single point is a constant.
-class LateralProfile {
+template <class Cfg>
+class BasicLateralProfile {
  public:
   struct Point {
     Scalar s;  // [m]
     Scalar l;  // [m]
   };
 
-  static LateralProfile constant(Scalar l);
+  static BasicLateralProfile constant(Scalar l);
   // Returns false when full or when s does not increase.
   [[nodiscard]] bool add(Scalar s, Scalar l);
 
@@ -28,14 +29,18 @@ class LateralProfile {
   bool empty() const { return points_.empty(); }
 
  private:
-  StaticVector<Point, config::kMaxBoundaryPoints> points_;
+  StaticVector<Point, Cfg::kMaxBoundaryPoints> points_;
 };
 
-struct RoadSl {
-  LateralProfile left;            // [m] drivable edge, l grows to the left
-  LateralProfile right;           // [m]
+template <class Cfg>
+struct BasicRoadSl {
+  BasicLateralProfile<Cfg> left;            // [m] drivable edge, l grows to the left
+  BasicLateralProfile<Cfg> right;           // [m]
   Scalar lane_width = Scalar(3.5);          // [m]
   Scalar target_lane_offset = Scalar(0);    // [m] l of the target lane's centre
 };
+
+using LateralProfile = BasicLateralProfile<DefaultConfig>;
+using RoadSl = BasicRoadSl<DefaultConfig>;
 
 }  // namespace itp::decision

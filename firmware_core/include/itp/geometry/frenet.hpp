@@ -40,6 +40,7 @@ struct SLBox {
 // on all four sides. The outline is sampled at the corners and along each
 // edge every kBoxEdgeSampleSpacing (at most kMaxBoxEdgeSamples points per
 // edge), since on a curved road the extreme s or l can lie inside an edge.
-SLBox sl_bounding_box(const ReferenceLine& line, const OrientedBox& box, Scalar margin);
+template <class Cfg>
+SLBox sl_bounding_box(const BasicReferenceLine<Cfg>& line, const OrientedBox& box, Scalar margin);
 
 }  // namespace itp::geometry

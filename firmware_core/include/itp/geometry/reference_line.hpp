@@ -27,12 +27,14 @@ struct CurveSample {
   Scalar dkappa = Scalar(0);      // [1/m^2] d kappa / ds
 };
 
-class ReferenceLine {
+template <class Cfg>
+class BasicReferenceLine {
  public:
   // Builds from the polyline [m] (driving order). On failure the line stays
   // invalid (valid() == false) and the reason is returned. No allocation;
   // `ws` is scratch for the fit.
-  ReferenceLineStatus build(std::span<const Point2> polyline, SmoothingSplineWorkspace& ws);
+  ReferenceLineStatus build(std::span<const Point2> polyline,
+                            BasicSmoothingSplineWorkspace<Cfg>& ws);
 
   bool valid() const { return valid_; }
   Scalar length() const { return length_; }  // [m] arc length of the smoothed curve
@@ -87,15 +89,15 @@ class ReferenceLine {
   // kChordGroup consecutive chords, each with a bounding circle.
   static constexpr int kChordGroup = 8;
   static constexpr int kMaxChordGroups =
-      (config::kMaxReferencePoints - 1 + kChordGroup - 1) / kChordGroup;
+      (Cfg::kMaxReferencePoints - 1 + kChordGroup - 1) / kChordGroup;
 
   // Spline data: knots = mirrored points + polyline + mirrored points.
-  Scalar t_[config::kMaxReferenceKnots] = {};    // [m] chord-length parameter
-  Scalar x_[config::kMaxReferenceKnots] = {};    // [m] fitted x at knots
-  Scalar y_[config::kMaxReferenceKnots] = {};    // [m] fitted y at knots
-  Scalar xpp_[config::kMaxReferenceKnots] = {};  // [1/m] d2x/du2 at knots
-  Scalar ypp_[config::kMaxReferenceKnots] = {};  // [1/m] d2y/du2 at knots
-  Scalar s_[config::kMaxReferenceKnots] = {};    // [m] arc length at knots, s_[first_] = 0
+  Scalar t_[Cfg::kMaxReferenceKnots] = {};    // [m] chord-length parameter
+  Scalar x_[Cfg::kMaxReferenceKnots] = {};    // [m] fitted x at knots
+  Scalar y_[Cfg::kMaxReferenceKnots] = {};    // [m] fitted y at knots
+  Scalar xpp_[Cfg::kMaxReferenceKnots] = {};  // [1/m] d2x/du2 at knots
+  Scalar ypp_[Cfg::kMaxReferenceKnots] = {};  // [1/m] d2y/du2 at knots
+  Scalar s_[Cfg::kMaxReferenceKnots] = {};    // [m] arc length at knots, s_[first_] = 0
   int knots_ = 0;
   int first_ = 0;  // knot of the first polyline point
   int last_ = 0;   // knot of the last polyline point
@@ -108,10 +110,12 @@ class ReferenceLine {
   // (at most kChordGroup of them, ending at last_); every point of those
   // chords is within group_radius_[g] of group_centre_[g], with a margin for
   // rounding (see build()).
-  Point2 group_centre_[kMaxChordGroups] = {};  // [m]
-  Scalar group_radius_[kMaxChordGroups] = {};  // [m]
+  Point2 group_centre_[std::size_t{kMaxChordGroups}] = {};  // [m]
+  Scalar group_radius_[std::size_t{kMaxChordGroups}] = {};  // [m]
   int groups_ = 0;
   bool valid_ = false;
 };
+
+using ReferenceLine = BasicReferenceLine<DefaultConfig>;
 
 }  // namespace itp::geometry

@@ -21,24 +21,28 @@
 
 namespace itp::geometry {
 
-// Scratch memory for one fit; every array has kMaxReferenceKnots entries.
-struct SmoothingSplineWorkspace {
-  Scalar d[config::kMaxReferenceKnots];   // LDL^T diagonal D
-  Scalar l1[config::kMaxReferenceKnots];  // L sub-diagonal (i, i-1)
-  Scalar l2[config::kMaxReferenceKnots];  // L second sub-diagonal (i, i-2)
-  Scalar a1[config::kMaxReferenceKnots];  // system matrix (i, i+1)
-  Scalar a2[config::kMaxReferenceKnots];  // system matrix (i, i+2)
-  Scalar rhs[config::kMaxReferenceKnots];  // right-hand side, then solution
+// Scratch memory for one fit; every array has Cfg::kMaxReferenceKnots entries.
+template <class Cfg>
+struct BasicSmoothingSplineWorkspace {
+  Scalar d[Cfg::kMaxReferenceKnots];    // LDL^T diagonal D
+  Scalar l1[Cfg::kMaxReferenceKnots];   // L sub-diagonal (i, i-1)
+  Scalar l2[Cfg::kMaxReferenceKnots];   // L second sub-diagonal (i, i-2)
+  Scalar a1[Cfg::kMaxReferenceKnots];   // system matrix (i, i+1)
+  Scalar a2[Cfg::kMaxReferenceKnots];   // system matrix (i, i+2)
+  Scalar rhs[Cfg::kMaxReferenceKnots];  // right-hand side, then solution
 };
 
 // Fits one coordinate. t, w, y: n knots, weights [-] (> 0) and data [m];
 // outputs g (fitted values [m]) and gamma (second derivatives d2g/dt2 [1/m]),
-// n entries each. Requires 3 <= n <= kMaxReferenceKnots and strictly
+// n entries each. Requires 3 <= n <= Cfg::kMaxReferenceKnots and strictly
 // increasing t. Returns false if the system is not positive definite
 // (numerically degenerate knots).
+template <class Cfg>
 bool fit_smoothing_spline(std::span<const Scalar> t, std::span<const Scalar> w,
                           std::span<const Scalar> y, Scalar lambda,
-                          SmoothingSplineWorkspace& ws, std::span<Scalar> g,
+                          BasicSmoothingSplineWorkspace<Cfg>& ws, std::span<Scalar> g,
                           std::span<Scalar> gamma);
+
+using SmoothingSplineWorkspace = BasicSmoothingSplineWorkspace<DefaultConfig>;
 
 }  // namespace itp::geometry

@@ -20,13 +20,19 @@ struct SceneHeader {
 };
 
 // Returns the payload size, 0 if it does not fit `out`.
-std::size_t encode_scene(const SceneHeader& header, const scene::Scene& scene, int prediction_stride,
-                         std::span<std::uint8_t> out);
+template <class Cfg>
+std::size_t encode_scene(const SceneHeader& header, const scene::BasicScene<Cfg>& scene,
+                         int prediction_stride, std::span<std::uint8_t> out);
 // False on a malformed body or a count beyond capacity (then `scene` is unusable).
-bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& header, scene::Scene& scene);
+template <class Cfg>
+bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& header,
+                  scene::BasicScene<Cfg>& scene);
 
-std::size_t encode_plan(std::uint32_t cycle, double origin_x, double origin_y, const planner::Plan& plan,
-                        std::span<std::uint8_t> out);
-bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle, planner::Plan& plan);
+template <class Cfg>
+std::size_t encode_plan(std::uint32_t cycle, double origin_x, double origin_y,
+                        const planner::BasicPlan<Cfg>& plan, std::span<std::uint8_t> out);
+template <class Cfg>
+bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle,
+                 planner::BasicPlan<Cfg>& plan);
 
 }  // namespace itp::link

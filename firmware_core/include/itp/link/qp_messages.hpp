@@ -19,7 +19,7 @@ struct QpSolveReply {
   std::uint16_t n = 0;
   double objective = 0;
   std::uint64_t ticks = 0;  // solve time on the target's counter
-  double x[config::kPathVariables] = {};
+  double x[DefaultConfig::kPathVariables] = {};
 };
 
 // Request body. Returns the size written, 0 if `out` is too small.

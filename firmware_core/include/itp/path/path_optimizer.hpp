@@ -1,14 +1,14 @@
 #pragma once
 // Paper 1.2: the path QP. l(s) over the SL horizon is a C2 spline of
-// kPathBlocks quintic blocks; the variables are (l, l', l'') at the
-// kPathBlocks + 1 knots (quintic Hermite parameterisation: the link
+// Cfg::kPathBlocks quintic blocks; the variables are (l, l', l'') at the
+// Cfg::kPathBlocks + 1 knots (quintic Hermite parameterisation: the link
 // constraints (7) hold by construction and H is banded, half-bandwidth 5).
 //
 // Cost (6), integrated exactly per block:
 //   w0 ∫(l - l_target)² + w1 ∫l'² + w2 ∫l''² + w3 ∫l'''² + w_obs ∫(l - l_mid(s))²
 // with l_mid the middle of the chosen corridor (piecewise constant in s; in a
 // zone that no obstacle bounds, the target lane centre clamped into it).
-// Constraints: start (l, l', l'') = init_sl; at kPathSamplesPerBlock samples
+// Constraints: start (l, l', l'') = init_sl; at Cfg::kPathSamplesPerBlock samples
 // per block the corridor (8) l_lo + w/2 <= l + β l' <= l_hi - w/2, and
 // bounds on l' and on l'' (curvature limit minus κ_ref).
 #include <array>
@@ -22,13 +22,6 @@
 
 namespace itp::path {
 
-using PathDims = qp::PathQpDims<Scalar>;
-inline constexpr int kPathKnots = config::kPathBlocks + 1;
-inline constexpr int kPathRowsPerSample = 4;  // front end, rear end, l', l''
-inline constexpr int kPathSamplesPerBlock = qp::kPathQpRows / (kPathRowsPerSample * config::kPathBlocks);  // 5
-static_assert(kPathRowsPerSample * kPathSamplesPerBlock * config::kPathBlocks == qp::kPathQpRows,
-              "corridor, l' and l'' rows at every sample fill the path QP's rows");
-
 struct PathWeights {
   Scalar target = Scalar(0.02);   // w0   [1/m^3]
   Scalar d1 = Scalar(1);          // w1   [1/m]
@@ -37,9 +30,10 @@ struct PathWeights {
   Scalar obstacle = Scalar(0.1);  // w_obs [1/m^3]
 };
 
-struct PathInput {
+template <class Cfg>
+struct BasicPathInput {
   Scalar s0 = 0;       // [m] start of the path (the ego's s)
-  Scalar length = config::kPathLength;  // [m]
+  Scalar length = Cfg::kPathLength;  // [m]
   Scalar l0 = 0;       // [m]   init_sl: l
   Scalar dl0 = 0;      // [-]   init_sl: dl/ds
   Scalar ddl0 = 0;     // [1/m] init_sl: d²l/ds²
@@ -52,37 +46,46 @@ struct PathInput {
   Scalar rear_reach = Scalar(1.0);      // [m] rear axle to rear bumper
   Scalar dl_max = Scalar(0.5);          // [-] |l'| bound
   Scalar kappa_max = Scalar(0.2);       // [1/m] curvature limit
-  const decision::CurvatureProfile* kappa_ref = nullptr;  // null: straight
+  const decision::BasicCurvatureProfile<Cfg>* kappa_ref = nullptr;  // null: straight
   // |κ| allowed along s, e.g. min(κ_max, a_lat_max / v(s)²) at the expected
   // speed; null: kappa_max everywhere.
-  const decision::CurvatureProfile* kappa_bound = nullptr;
+  const decision::BasicCurvatureProfile<Cfg>* kappa_bound = nullptr;
 };
 
-struct PathResult {
+template <class Cfg>
+struct BasicPathResult {
   qp::QpStatus status = qp::QpStatus::kInvalidInput;
   int iterations = 0;
   Scalar s0 = 0;  // [m]
   Scalar h = 0;   // [m] block length
-  std::array<Scalar, 3 * kPathKnots> knots{};  // (l, l', l'') per knot
-  std::array<Scalar, 6 * config::kPathBlocks> coefficients{};  // monomial coefficients per block (from knots)
+  std::array<Scalar, 3 * Cfg::kPathKnots> knots{};  // (l, l', l'') per knot
+  std::array<Scalar, 6 * Cfg::kPathBlocks>
+      coefficients{};  // monomial coefficients per block (from knots)
 
   // d^k l / ds^k at s (k = 0..3), clamped to the horizon.
   Scalar eval(Scalar s, int derivative) const;
 };
 
-class PathOptimizer {
+template <class Cfg>
+class BasicPathOptimizer {
  public:
+  using PathDims = qp::PathQpDims<Scalar, Cfg>;
+  using PathInput = BasicPathInput<Cfg>;
+  using PathResult = BasicPathResult<Cfg>;
+  using ConvexSpace = decision::BasicConvexSpace<Cfg>;
+  using Decision = decision::BasicDecision<Cfg>;
+
   // Forget the factorisation: the next solve is cold.
   void reset() { have_factor_ = false; }
-  void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
-  void solve(const decision::ConvexSpace& space, const decision::Decision& decision,
-             const PathInput& in, const PathWeights& w, PathResult& out);
+  void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
+  void solve(const ConvexSpace& space, const Decision& decision, const PathInput& in,
+             const PathWeights& w, PathResult& out);
   // The QP of the last solve (for dumps and tests).
   const qp::QpProblem<PathDims>& problem() const { return problem_; }
 
  private:
-  void build(const decision::ConvexSpace& space, const decision::Decision& decision,
-             const PathInput& in, const PathWeights& w, Scalar h);
+  void build(const ConvexSpace& space, const Decision& decision, const PathInput& in,
+             const PathWeights& w, Scalar h);
 
   qp::QpProblem<PathDims> problem_{};
   qp::QpWorkspace<PathDims> workspace_{};
@@ -90,13 +93,17 @@ class PathOptimizer {
   // A feasible path QP converges in under 30 iterations (hot) here; proving
   // infeasibility takes 110-130. The cap turns most of those into an early
   // iteration-limit failure at half the cost (same outcome: next decision).
-  qp::QpSettings<Scalar> settings_{.max_iterations = config::kPathQpMaxIterations};
+  qp::QpSettings<Scalar> settings_{.max_iterations = Cfg::kPathQpMaxIterations};
   PathWeights factored_weights_{};
   Scalar factored_h_ = 0;
   Scalar factored_front_ = 0;
   Scalar factored_rear_ = 0;
-  const qp::PlannerQpObserver* observer_ = nullptr;
+  const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
   bool have_factor_ = false;
 };
+
+using PathInput = BasicPathInput<DefaultConfig>;
+using PathResult = BasicPathResult<DefaultConfig>;
+using PathOptimizer = BasicPathOptimizer<DefaultConfig>;
 
 }  // namespace itp::path

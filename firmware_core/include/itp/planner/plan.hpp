@@ -58,17 +58,21 @@ struct StageTiming {
   int decision_runs = 0;       // decision-stage calls (iterations x dynamic re-decisions)
 };
 
-struct Plan {
+// The output of one cycle, with the capacities of configuration Cfg.
+template <class Cfg>
+struct BasicPlan {
   PlanStatus status = PlanStatus::kFallback;
   FallbackReason fallback = FallbackReason::kNone;
   scene::ValidationReason invalid = scene::ValidationReason::kNone;
   int iterations = 0;
-  StaticVector<TrajectoryPoint, config::kTrajectorySamples> trajectory;
-  StaticVector<ObstacleDecision, config::kMaxObstacles> decisions;
+  StaticVector<TrajectoryPoint, Cfg::kTrajectorySamples> trajectory;
+  StaticVector<ObstacleDecision, Cfg::kMaxObstacles> decisions;
   StageTiming timing;
   // Counts for reports: QP solves and their active-set iterations this cycle.
   int qp_solves = 0;
   int qp_iterations = 0;
 };
+
+using Plan = BasicPlan<DefaultConfig>;
 
 }  // namespace itp::planner

@@ -40,16 +40,49 @@ struct PlannerSettings {
 
 // One planning call: the scene and the time it is planned at (the scene's
 // clock: dynamic obstacles' predictions are sampled from `now` on).
-struct PlanRequest {
-  const scene::Scene* scene = nullptr;
+template <class Cfg>
+struct BasicPlanRequest {
+  const scene::BasicScene<Cfg>* scene = nullptr;
   Scalar now = 0;  // [s]
 };
 
-class Planner {
+// The planner for configuration Cfg (itp/config.hpp); all of its memory is
+// in the object (about 1 MB with DefaultConfig: place it in static storage).
+template <class Cfg>
+class BasicPlanner {
  public:
+  using Config = Cfg;
+  using Scene = scene::BasicScene<Cfg>;
+  using Plan = BasicPlan<Cfg>;
+  using PlanRequest = BasicPlanRequest<Cfg>;
+  using QpObserver = qp::BasicPlannerQpObserver<Cfg>;
+  using ReferenceLine = geometry::BasicReferenceLine<Cfg>;
+  using DecisionStage = decision::BasicDecisionStage<Cfg>;
+  using ConvexSpace = decision::BasicConvexSpace<Cfg>;
+  using Decision = decision::BasicDecision<Cfg>;
+  using CoarseInput = decision::BasicCoarseInput<Cfg>;
+  using CurvatureProfile = decision::BasicCurvatureProfile<Cfg>;
+  using RoadSl = decision::BasicRoadSl<Cfg>;
+  using PathOptimizer = path::BasicPathOptimizer<Cfg>;
+  using PathInput = path::BasicPathInput<Cfg>;
+  using PathResult = path::BasicPathResult<Cfg>;
+  using SpeedOptimizer = speed::BasicSpeedOptimizer<Cfg>;
+  using SpeedResult = speed::BasicSpeedResult<Cfg>;
+  using SpeedBounds = speed::BasicSpeedBounds<Cfg>;
+  using StGraph = speed::BasicStGraph<Cfg>;
+  using DynamicTrack = speed::BasicDynamicTrack<Cfg>;
+  using CoarseResult = decision::BasicCoarseResult<Cfg>;
+  using LateralProfile = decision::BasicLateralProfile<Cfg>;
+  using Boundary = scene::BasicBoundary<Cfg>;
+  using DynamicObstacle = scene::BasicDynamicObstacle<Cfg>;
+  using SpeedInput = speed::BasicSpeedInput<Cfg>;
+  using StDecision = speed::BasicStDecision<Cfg>;
+  using StParams = speed::BasicStParams<Cfg>;
+  using StSamples = std::array<Scalar, Cfg::kStSamples>;  // one value per ST sample
+
   void set_tick_source(TickSource ticks) { ticks_ = ticks; }
   // Host tools: see every QP this planner solves (null: none). Must outlive the planner's use.
-  void set_qp_observer(const qp::PlannerQpObserver* observer) {
+  void set_qp_observer(const QpObserver* observer) {
     decision_.set_observer(observer);
     path_opt_.set_observer(observer);
     speed_opt_.set_observer(observer);
@@ -64,14 +97,14 @@ class Planner {
   PlanStatus plan(const PlanRequest& request, Plan& out);
 
   // Read-only views for tools (planner_cli, plots): the last cycle's stages.
-  const decision::DecisionStage& decision_stage() const { return decision_; }
-  const path::PathResult& path_result() const { return path_; }
-  const speed::SpeedResult& speed_result() const { return speed_; }
-  const speed::StGraph& st_graph() const { return st_; }
-  const geometry::ReferenceLine& reference_line() const { return reference_; }
-  const path::PathOptimizer& path_optimizer() const { return path_opt_; }
-  const speed::SpeedOptimizer& speed_optimizer() const { return speed_opt_; }
-  const speed::SpeedBounds& speed_bounds() const { return bounds_; }
+  const DecisionStage& decision_stage() const { return decision_; }
+  const PathResult& path_result() const { return path_; }
+  const SpeedResult& speed_result() const { return speed_; }
+  const StGraph& st_graph() const { return st_; }
+  const ReferenceLine& reference_line() const { return reference_; }
+  const PathOptimizer& path_optimizer() const { return path_opt_; }
+  const SpeedOptimizer& speed_optimizer() const { return speed_opt_; }
+  const SpeedBounds& speed_bounds() const { return bounds_; }
   // SL boxes of the last iteration: static ones (inflated by the ego's extents
   // in s), then the dynamic ones at their meeting places.
   std::span<const decision::SlBox> boxes() const { return boxes_.span(); }
@@ -80,6 +113,12 @@ class Planner {
   Scalar path_length() const { return length_; }  // [m]
 
  private:
+  // The trajectory is sampled at the ST samples: every 0.1 s over the horizon.
+  static constexpr int kSamples = Cfg::kStSamples;
+  static constexpr Scalar kDt =
+      Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);  // [s]
+  static_assert(kSamples == Cfg::kTrajectorySamples, "speed samples are the trajectory samples");
+
   struct Start {       // init_sl and init_st
     Scalar s = 0;      // [m]
     Scalar l = 0, dl = 0, ddl = 0;
@@ -87,36 +126,35 @@ class Planner {
     Scalar stitched_age = -1;  // [s] age of the previous plan it was stitched from; < 0: not stitched
   };
 
-  bool prepare(const scene::Scene& scene, Scalar now, Plan& out);
-  Start start_state(const scene::Scene& scene, Scalar now) const;
-  void project_obstacles(const scene::Scene& scene, Scalar now);
+  bool prepare(const Scene& scene, Scalar now, Plan& out);
+  Start start_state(const Scene& scene, Scalar now) const;
+  void project_obstacles(const Scene& scene, Scalar now);
   void keep_on_road(Scalar s, decision::SlBox& box) const;
-  int place_dynamic(const std::array<Scalar, speed::kStSamples>& s_guess, bool* skip);
-  std::uint64_t corridor_signature(const decision::Decision& d, const path::PathInput& pi) const;
+  int place_dynamic(const StSamples& s_guess, bool* skip);
+  std::uint64_t corridor_signature(const Decision& d, const PathInput& pi) const;
   bool known_infeasible(std::uint64_t corridor) const;
   int nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only, Scalar reach) const;
-  FallbackReason decide_path(const std::array<Scalar, speed::kStSamples>& s_guess, std::size_t n_static,
-                             const decision::ConvexSpaceParams& cp, const decision::CoarseInput& ci,
-                             path::PathInput& pi, Plan& out);
-  bool iterate(const scene::Scene& scene, const Start& start, Plan& out);
+  FallbackReason decide_path(const StSamples& s_guess, std::size_t n_static,
+                             const decision::ConvexSpaceParams& cp, const CoarseInput& ci,
+                             PathInput& pi, Plan& out);
+  bool iterate(const Scene& scene, const Start& start, Plan& out);
   void sample_trajectory(const Start& start, Plan& out) const;
-  int first_collision(const scene::Scene& scene, Scalar now, const Plan& plan) const;
-  void fallback(const scene::Scene* scene, Scalar now, FallbackReason reason, Plan& out);
+  int first_collision(const Scene& scene, Scalar now, const Plan& plan) const;
+  void fallback(const Scene* scene, Scalar now, FallbackReason reason, Plan& out);
   void record_decisions(Plan& out) const;
-  int rank_decisions(std::array<int, config::kKeptDecisions>& order) const;
+  int rank_decisions(std::array<int, Cfg::kKeptDecisions>& order) const;
   Scalar hysteresis_bonus(int index) const;
-  void update_kappa_bound(const std::array<Scalar, speed::kStSamples>& s_guess,
-                          const std::array<Scalar, speed::kStSamples>& v_guess);
+  void update_kappa_bound(const StSamples& s_guess, const StSamples& v_guess);
 
   TickSource ticks_{};
   PlannerSettings settings_{};
   Scalar now_ = 0;  // [s] time of the current request
 
-  geometry::SmoothingSplineWorkspace spline_ws_{};
-  geometry::ReferenceLine reference_{};
-  decision::CurvatureProfile kappa_{};
-  decision::CurvatureProfile kappa_bound_{};  // |κ| the path may have at the expected speed
-  decision::RoadSl road_{};
+  geometry::BasicSmoothingSplineWorkspace<Cfg> spline_ws_{};
+  ReferenceLine reference_{};
+  CurvatureProfile kappa_{};
+  CurvatureProfile kappa_bound_{};  // |κ| the path may have at the expected speed
+  RoadSl road_{};
   decision::VehicleLimits limits_{};
   Scalar lane_target_ = 0;  // [m] target lane centre
   Scalar s_start_ = 0;   // [m] path start (the ego's s)
@@ -125,19 +163,19 @@ class Planner {
   Scalar rear_ = 0;      // [m] rear overhang
 
   // Obstacles in SL: static boxes, then the dynamic ones at their meeting time.
-  StaticVector<decision::SlBox, config::kMaxObstacles> boxes_;
-  std::array<speed::DynamicTrack, config::kMaxDynamicObstacles> tracks_{};
+  StaticVector<decision::SlBox, Cfg::kMaxObstacles> boxes_;
+  std::array<DynamicTrack, Cfg::kMaxDynamicObstacles> tracks_{};
   int track_count_ = 0;
 
-  decision::DecisionStage decision_{};
-  path::PathOptimizer path_opt_{};
-  path::PathResult path_{};
-  speed::StGraph st_{};
-  speed::SpeedBounds bounds_{};
-  speed::SpeedOptimizer speed_opt_{};
-  speed::SpeedResult speed_{};
+  DecisionStage decision_{};
+  PathOptimizer path_opt_{};
+  PathResult path_{};
+  StGraph st_{};
+  SpeedBounds bounds_{};
+  SpeedOptimizer speed_opt_{};
+  SpeedResult speed_{};
   // Corridors whose path QP failed at the steering limit this cycle (skipped when met again).
-  StaticVector<std::uint64_t, config::kRememberedInfeasibleCorridors> infeasible_;
+  StaticVector<std::uint64_t, Cfg::kRememberedInfeasibleCorridors> infeasible_;
   int path_solves_ = 0;  // path QPs solved this cycle (<= kMaxPathSolvesPerCycle)
   int chosen_ = -1;  // decision index in decision_.decisions().kept
   bool blocked_ = false;  // the chosen corridor ends at static obstacles
@@ -150,5 +188,8 @@ class Planner {
   bool holding_fallback_l_ = false;
   Scalar fallback_l_ = 0;        // [m] lateral offset held by consecutive fallbacks
 };
+
+using PlanRequest = BasicPlanRequest<DefaultConfig>;
+using Planner = BasicPlanner<DefaultConfig>;
 
 }  // namespace itp::planner

@@ -41,32 +41,30 @@ struct QpDims {
   static_assert(Bw < N, "half-bandwidth must be below the variable count");
 };
 
-// The planner's three QP shapes (docs/qp.md and PLANNER.md).
-// Path QP: (l, l', l'') at 21 knots; quintic Hermite blocks couple knot i with
-// i+1, i.e. 6 consecutive variables -> half-bandwidth 5. Rows: 10 corridor +
-// 5 curvature samples per block, each touching the 6 variables of its block.
-inline constexpr int kPathQpRows = 400;
+// The planner's three QP shapes (docs/qp.md and PLANNER.md), per
+// configuration Cfg (host tools and tests default to DefaultConfig); rows
+// and variables come from the configuration (itp/config.hpp).
+// Path QP: (l, l', l'') per knot; quintic Hermite blocks couple knot i with
+// i+1, i.e. 6 consecutive variables -> half-bandwidth 5; every row touches
+// the 6 variables of its block (plus the 3 of a neighbouring knot at most).
 inline constexpr int kPathQpRowNonzeros = 9;
 inline constexpr int kPathQpBandwidth = 5;
-// Speed QP: (s, s', s'') at 15 knots, 15 rows per ST block.
-inline constexpr int kSpeedQpRows = 210;
+// Speed QP: (s, s', s'') per knot, rows of one block.
 inline constexpr int kSpeedQpRowNonzeros = 6;
 inline constexpr int kSpeedQpBandwidth = 5;
-// Coarse decision QP: (l_i, t_i) interleaved at 20 samples; second differences
-// couple sample i-1..i+1 -> half-bandwidth 4; bounds plus monotone-time rows.
-inline constexpr int kCoarseQpVariables = 2 * config::kCoarseSamples;
-inline constexpr int kCoarseQpRows = config::kCoarseSamples;
+// Coarse decision QP: (l_i, t_i) interleaved; second differences couple
+// sample i-1..i+1 -> half-bandwidth 4; bounds plus monotone-time rows.
 inline constexpr int kCoarseQpRowNonzeros = 2;
 inline constexpr int kCoarseQpBandwidth = 4;
 
-template <typename S>
-using PathQpDims = QpDims<S, config::kPathVariables, kPathQpRows, kPathQpRowNonzeros,
-                          kPathQpBandwidth>;
-template <typename S>
-using SpeedQpDims = QpDims<S, config::kSpeedVariables, kSpeedQpRows,
-                           kSpeedQpRowNonzeros, kSpeedQpBandwidth>;
-template <typename S>
-using CoarseQpDims = QpDims<S, kCoarseQpVariables, kCoarseQpRows, kCoarseQpRowNonzeros,
+template <typename S, class Cfg = DefaultConfig>
+using PathQpDims =
+    QpDims<S, Cfg::kPathVariables, Cfg::kPathQpRows, kPathQpRowNonzeros, kPathQpBandwidth>;
+template <typename S, class Cfg = DefaultConfig>
+using SpeedQpDims =
+    QpDims<S, Cfg::kSpeedVariables, Cfg::kSpeedQpRows, kSpeedQpRowNonzeros, kSpeedQpBandwidth>;
+template <typename S, class Cfg = DefaultConfig>
+using CoarseQpDims = QpDims<S, Cfg::kCoarseQpVariables, Cfg::kCoarseQpRows, kCoarseQpRowNonzeros,
                             kCoarseQpBandwidth>;
 
 }  // namespace itp::qp

@@ -8,11 +8,14 @@
 
 namespace itp::qp {
 
-struct PlannerQpObserver {
+template <class Cfg>
+struct BasicPlannerQpObserver {
   void* context = nullptr;
-  void (*coarse)(void* context, const QpProblem<CoarseQpDims<Scalar>>& problem) = nullptr;
-  void (*path)(void* context, const QpProblem<PathQpDims<Scalar>>& problem) = nullptr;
-  void (*speed)(void* context, const QpProblem<SpeedQpDims<Scalar>>& problem) = nullptr;
+  void (*coarse)(void* context, const QpProblem<CoarseQpDims<Scalar, Cfg>>& problem) = nullptr;
+  void (*path)(void* context, const QpProblem<PathQpDims<Scalar, Cfg>>& problem) = nullptr;
+  void (*speed)(void* context, const QpProblem<SpeedQpDims<Scalar, Cfg>>& problem) = nullptr;
 };
+
+using PlannerQpObserver = BasicPlannerQpObserver<DefaultConfig>;
 
 }  // namespace itp::qp

@@ -17,6 +17,7 @@ struct ObstacleSample {
 // last sample, straight on at its velocity and heading. Bisection over the
 // samples (bounded by kMaxPredictionSamples). Requires a valid obstacle
 // (non-empty trajectory with strictly ascending t).
-ObstacleSample sample_pose(const DynamicObstacle& obstacle, Scalar t);
+template <class Cfg>
+ObstacleSample sample_pose(const BasicDynamicObstacle<Cfg>& obstacle, Scalar t);
 
 }  // namespace itp::scene

@@ -1,7 +1,7 @@
 #pragma once
 // The scene the planner receives: one planning problem as plain
 // fixed-capacity data (scene/1, docs/scene.md). Nothing here allocates;
-// capacities come from itp/config.hpp. Positions are in the world frame,
+// capacities come from the configuration (itp/config.hpp). Positions are in the world frame,
 // angles counter-clockwise from +x.
 #include <cstdint>
 
@@ -22,18 +22,20 @@ struct BoundaryPoint {
 // A road edge as an offset l(s) from the reference line: the constant
 // `offset` when `table` is empty, else linear between the table's knots
 // (strictly ascending s) and constant beyond its first and last knots.
-struct Boundary {
-  Scalar offset = Scalar(0);                                       // [m]
-  StaticVector<BoundaryPoint, config::kMaxBoundaryPoints> table;  // [m, m]
+template <class Cfg>
+struct BasicBoundary {
+  Scalar offset = Scalar(0);                                   // [m]
+  StaticVector<BoundaryPoint, Cfg::kMaxBoundaryPoints> table;  // [m, m]
 
   bool is_constant() const { return table.empty(); }
   Scalar at(Scalar s) const;  // [m] l of the edge at arc length s [m]
 };
 
-struct Road {
-  Scalar lane_width = Scalar(3.5);          // [m] width of one lane
-  Boundary left{Scalar(1.75), {}};          // [m] left edge of the drivable area (l > right)
-  Boundary right{Scalar(-1.75), {}};        // [m] right edge of the drivable area
+template <class Cfg>
+struct BasicRoad {
+  Scalar lane_width = Scalar(3.5);              // [m] width of one lane
+  BasicBoundary<Cfg> left{Scalar(1.75), {}};    // [m] left edge of the drivable area (l > right)
+  BasicBoundary<Cfg> right{Scalar(-1.75), {}};  // [m] right edge of the drivable area
   Scalar target_lane_offset = Scalar(0);    // [m] l of the target lane's centre
   Scalar speed_limit = Scalar(13.9);        // [m/s]
 };
@@ -90,19 +92,28 @@ struct TimedPose {
 
 // A moving box with its trajectory (strictly ascending t). Absent before the
 // first t; after the last it moves on at the last velocity and heading.
-struct DynamicObstacle {
+template <class Cfg>
+struct BasicDynamicObstacle {
   std::int32_t id = 0;
   Scalar length = Scalar(0);  // [m]
   Scalar width = Scalar(0);   // [m]
-  StaticVector<TimedPose, config::kMaxPredictionSamples> trajectory;
+  StaticVector<TimedPose, Cfg::kMaxPredictionSamples> trajectory;
 };
 
-struct Scene {
-  StaticVector<Point2, config::kMaxReferencePoints> reference_line;  // [m] lane centre, driving order
-  Road road;
+// One planning problem with the capacities of configuration Cfg.
+template <class Cfg>
+struct BasicScene {
+  StaticVector<Point2, Cfg::kMaxReferencePoints> reference_line;  // [m] lane centre, driving order
+  BasicRoad<Cfg> road;
   Ego ego;
-  StaticVector<StaticObstacle, config::kMaxStaticObstacles> static_obstacles;
-  StaticVector<DynamicObstacle, config::kMaxDynamicObstacles> dynamic_obstacles;
+  StaticVector<StaticObstacle, Cfg::kMaxStaticObstacles> static_obstacles;
+  StaticVector<BasicDynamicObstacle<Cfg>, Cfg::kMaxDynamicObstacles> dynamic_obstacles;
 };
+
+// The default configuration's types.
+using Boundary = BasicBoundary<DefaultConfig>;
+using Road = BasicRoad<DefaultConfig>;
+using DynamicObstacle = BasicDynamicObstacle<DefaultConfig>;
+using Scene = BasicScene<DefaultConfig>;
 
 }  // namespace itp::scene

@@ -61,6 +61,7 @@ struct ValidationResult {
 // reference line, road, ego, static then dynamic obstacles; within each,
 // non-finite values before ranges). Bounded by the scene's capacities; no
 // allocation, no spline fit (the reference line is checked as a polyline).
-ValidationResult validate(const Scene& scene);
+template <class Cfg>
+ValidationResult validate(const BasicScene<Cfg>& scene);
 
 }  // namespace itp::scene

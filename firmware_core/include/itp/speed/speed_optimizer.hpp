@@ -1,6 +1,6 @@
 #pragma once
 // Paper 1.3: the speed QP. s(t) over the speed horizon is a C2 spline of
-// kSpeedBlocks quintic blocks with (s, ṡ, s̈) at the knots (the link
+// Cfg::kSpeedBlocks quintic blocks with (s, ṡ, s̈) at the knots (the link
 // constraints (12) hold by construction; H banded, half-bandwidth 5).
 //
 // Cost (11), integrated exactly per block:
@@ -19,12 +19,6 @@
 
 namespace itp::speed {
 
-using SpeedDims = qp::SpeedQpDims<Scalar>;
-inline constexpr int kSpeedKnots = config::kSpeedBlocks + 1;
-inline constexpr int kSpeedSamplesPerBlock = qp::kSpeedQpRows / (3 * config::kSpeedBlocks);  // 5
-inline constexpr int kSpeedSamples = kSpeedSamplesPerBlock * config::kSpeedBlocks;           // 70
-static_assert(3 * kSpeedSamples == qp::kSpeedQpRows, "s, ṡ and s̈ rows at every sample");
-
 struct SpeedWeights {
   Scalar s_up = Scalar(0.05);   // w0 [1/(m^2 s)]
   Scalar v = Scalar(1);         // w1
@@ -32,41 +26,50 @@ struct SpeedWeights {
   Scalar jerk = Scalar(1);      // w3
 };
 
-// Per-sample bounds and references at t_k = k * horizon / kSpeedSamples
+// Per-sample bounds and references at t_k = k * horizon / Cfg::kSpeedSamples
 // (k = 0..kSpeedSamples; the last one is the final knot).
-struct SpeedBounds {
-  std::array<Scalar, kSpeedSamples + 1> s_lo{};   // [m] along the path
-  std::array<Scalar, kSpeedSamples + 1> s_hi{};
-  std::array<Scalar, kSpeedSamples + 1> v_lo{};   // [m/s]
-  std::array<Scalar, kSpeedSamples + 1> v_hi{};
-  std::array<Scalar, kSpeedSamples + 1> s_ref{};  // [m] s_up(t)
-  std::array<Scalar, kSpeedSamples + 1> v_ref{};  // [m/s] ṡ_expect(t)
+template <class Cfg>
+struct BasicSpeedBounds {
+  std::array<Scalar, Cfg::kStSamples> s_lo{};  // [m] along the path
+  std::array<Scalar, Cfg::kStSamples> s_hi{};
+  std::array<Scalar, Cfg::kStSamples> v_lo{};  // [m/s]
+  std::array<Scalar, Cfg::kStSamples> v_hi{};
+  std::array<Scalar, Cfg::kStSamples> s_ref{};  // [m] s_up(t)
+  std::array<Scalar, Cfg::kStSamples> v_ref{};  // [m/s] ṡ_expect(t)
 };
 
-struct SpeedInput {
+template <class Cfg>
+struct BasicSpeedInput {
   Scalar v0 = 0;   // [m/s]  init_st: speed
   Scalar a0 = 0;   // [m/s²] init_st: acceleration
-  Scalar horizon = config::kSpeedHorizon;  // [s]
+  Scalar horizon = Cfg::kSpeedHorizon;  // [s]
   Scalar a_min = Scalar(-4);  // [m/s²]
   Scalar a_max = Scalar(2);   // [m/s²]
 };
 
-struct SpeedResult {
+template <class Cfg>
+struct BasicSpeedResult {
   qp::QpStatus status = qp::QpStatus::kInvalidInput;
   int iterations = 0;
   Scalar h = 0;  // [s] block length
-  std::array<Scalar, 3 * kSpeedKnots> knots{};  // (s, ṡ, s̈) per knot
-  std::array<Scalar, 6 * config::kSpeedBlocks> coefficients{};  // monomial coefficients per block
+  std::array<Scalar, 3 * Cfg::kSpeedKnots> knots{};          // (s, ṡ, s̈) per knot
+  std::array<Scalar, 6 * Cfg::kSpeedBlocks> coefficients{};  // monomial coefficients per block
 
   // d^k s / dt^k at t (k = 0..3), clamped to the horizon.
   Scalar eval(Scalar t, int derivative) const;
 };
 
-class SpeedOptimizer {
+template <class Cfg>
+class BasicSpeedOptimizer {
  public:
+  using SpeedDims = qp::SpeedQpDims<Scalar, Cfg>;
+  using SpeedInput = BasicSpeedInput<Cfg>;
+  using SpeedBounds = BasicSpeedBounds<Cfg>;
+  using SpeedResult = BasicSpeedResult<Cfg>;
+
   // Forget the factorisation: the next solve is cold.
   void reset() { have_factor_ = false; }
-  void set_observer(const qp::PlannerQpObserver* observer) { observer_ = observer; }
+  void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
   void solve(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w,
              SpeedResult& out);
   const qp::QpProblem<SpeedDims>& problem() const { return problem_; }
@@ -81,7 +84,12 @@ class SpeedOptimizer {
   SpeedWeights factored_weights_{};
   Scalar factored_h_ = 0;
   bool have_factor_ = false;
-  const qp::PlannerQpObserver* observer_ = nullptr;
+  const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
+
+using SpeedBounds = BasicSpeedBounds<DefaultConfig>;
+using SpeedInput = BasicSpeedInput<DefaultConfig>;
+using SpeedResult = BasicSpeedResult<DefaultConfig>;
+using SpeedOptimizer = BasicSpeedOptimizer<DefaultConfig>;
 
 }  // namespace itp::speed

@@ -20,13 +20,13 @@
 
 namespace itp::speed {
 
-inline constexpr int kStSamples = kSpeedSamples + 1;  // t_k = k * horizon / kSpeedSamples, k = 0..70
-
-// A dynamic obstacle's predicted SL footprint at every speed sample.
-struct DynamicTrack {
+// A dynamic obstacle's predicted SL footprint at every speed sample
+// (t_k = k * horizon / Cfg::kSpeedSamples, k = 0..kSpeedSamples).
+template <class Cfg>
+struct BasicDynamicTrack {
   std::int32_t id = 0;
-  std::array<decision::SlBox, kStSamples> box{};
-  std::array<bool, kStSamples> present{};  // false before it appears
+  std::array<decision::SlBox, Cfg::kStSamples> box{};
+  std::array<bool, Cfg::kStSamples> present{};  // false before it appears
   // Oncoming, or first seen behind the ego: the path treats everything it
   // covers over the horizon as occupied (planner, place_dynamic).
   bool sweep_occupied = false;
@@ -41,18 +41,21 @@ enum class Longitudinal : std::uint8_t {
 
 const char* to_string(Longitudinal decision);
 
-struct StDecision {
+template <class Cfg>
+struct BasicStDecision {
   std::int32_t id = 0;
   Longitudinal decision = Longitudinal::kIgnore;
   int k1 = -1;  // first conflicting sample (t1)
   int k2 = -1;  // last conflicting sample (t2)
-  std::array<bool, kStSamples> conflict{};  // the footprint meets the swept path at t_k
-  std::array<Scalar, kStSamples> s_lo{};  // [m] forbidden interval of the ego's speed-s, when in conflict
-  std::array<Scalar, kStSamples> s_hi{};
-  std::array<Scalar, kStSamples> speed{};  // [m/s] obstacle's speed along the path
+  std::array<bool, Cfg::kStSamples> conflict{};  // the footprint meets the swept path at t_k
+  std::array<Scalar, Cfg::kStSamples>
+      s_lo{};  // [m] forbidden interval of the ego's speed-s, when in conflict
+  std::array<Scalar, Cfg::kStSamples> s_hi{};
+  std::array<Scalar, Cfg::kStSamples> speed{};  // [m/s] obstacle's speed along the path
 };
 
-struct StParams {
+template <class Cfg>
+struct BasicStParams {
   Scalar s0 = 0;                     // [m] path s of the ego
   Scalar v0 = 0;                     // [m/s]
   Scalar front = Scalar(3.8);        // [m] rear axle to front bumper
@@ -68,28 +71,44 @@ struct StParams {
   // and the curvature speed limit at t is the lowest over every position the
   // ego can reach by t (not just the guessed one).
   bool conservative = false;
-  const decision::CurvatureProfile* kappa_ref = nullptr;
+  const decision::BasicCurvatureProfile<Cfg>* kappa_ref = nullptr;
 };
 
-class StGraph {
+template <class Cfg>
+class BasicStGraph {
  public:
+  using DynamicTrack = BasicDynamicTrack<Cfg>;
+  using StDecision = BasicStDecision<Cfg>;
+  using StParams = BasicStParams<Cfg>;
+  using SpeedBounds = BasicSpeedBounds<Cfg>;
+  using PathResult = path::BasicPathResult<Cfg>;
+
   // `s_guess[k]`, `v_guess[k]`: the ego's speed-s and speed at t_k from the
   // previous iteration (or the reference profile at step 0); they pick the
   // decisions and the curvature speed limit. Fills `bounds` for the speed QP.
-  void build(const path::PathResult& path, std::span<const DynamicTrack> tracks,
-             const StParams& params, const std::array<Scalar, kStSamples>& s_guess,
-             const std::array<Scalar, kStSamples>& v_guess, SpeedBounds& bounds);
+  void build(const PathResult& path, std::span<const DynamicTrack> tracks, const StParams& params,
+             const std::array<Scalar, Cfg::kStSamples>& s_guess,
+             const std::array<Scalar, Cfg::kStSamples>& v_guess, SpeedBounds& bounds);
 
-  const StaticVector<StDecision, config::kMaxDynamicObstacles>& decisions() const { return decisions_; }
+  const StaticVector<StDecision, Cfg::kMaxDynamicObstacles>& decisions() const {
+    return decisions_;
+  }
 
  private:
-  StaticVector<StDecision, config::kMaxDynamicObstacles> decisions_;
+  StaticVector<StDecision, Cfg::kMaxDynamicObstacles> decisions_;
 };
 
 // The reference profile: from v0, accelerate at a_max (or brake at a_min) towards
 // the speed limit, with lateral acceleration on κ_ref along the way. Its s and
 // speed at the samples: s_up of the cost, and the step-0 guess of the iteration.
-void reference_profile(const StParams& params, Scalar horizon, std::array<Scalar, kStSamples>& s_ref,
-                       std::array<Scalar, kStSamples>& v_ref);
+template <class Cfg>
+void reference_profile(const BasicStParams<Cfg>& params, Scalar horizon,
+                       std::array<Scalar, Cfg::kStSamples>& s_ref,
+                       std::array<Scalar, Cfg::kStSamples>& v_ref);
+
+using DynamicTrack = BasicDynamicTrack<DefaultConfig>;
+using StDecision = BasicStDecision<DefaultConfig>;
+using StParams = BasicStParams<DefaultConfig>;
+using StGraph = BasicStGraph<DefaultConfig>;
 
 }  // namespace itp::speed

@@ -1,0 +1,37 @@
+#pragma once
+// The configurations the firmware library is compiled for. Each stage's
+// .cpp explicitly instantiates its templates for every entry of
+// ITP_FOR_EACH_CONFIG, so a product adds its own configuration here (one
+// line) and gets the whole planner for it; the linker's --gc-sections drops
+// the instantiations a firmware image does not use.
+#include "itp/config.hpp"
+
+namespace itp {
+
+// A smaller planner, for a city ECU with less RAM: 60 m and 5 s horizons,
+// 4 static + 2 dynamic obstacles, fewer and shorter QP blocks. The tests
+// plan with it to prove that nothing in the library assumes the default sizes.
+struct CompactSizes : DefaultSizes {
+  static constexpr Scalar kPathLength = Scalar(60);
+  static constexpr Scalar kSpeedHorizon = Scalar(5);
+  static constexpr int kMaxReferencePoints = 64;
+  static constexpr int kMaxBoundaryPoints = 8;
+  static constexpr int kMaxStaticObstacles = 4;
+  static constexpr int kMaxDynamicObstacles = 2;
+  static constexpr int kMaxPredictionSamples = 60;
+  static constexpr int kKeptDecisions = 8;
+  static constexpr int kMaxTreeNodes = 512;
+  static constexpr int kCoarseSamples = 12;
+  static constexpr int kPathBlocks = 12;
+  static constexpr int kSpeedBlocks = 10;
+  static constexpr int kMaxPlannerIterations = 4;
+  static constexpr int kMaxPathSolvesPerCycle = 8;
+};
+using CompactConfig = Configuration<CompactSizes>;
+
+}  // namespace itp
+
+// X(config type) for every configuration the library is built for.
+#define ITP_FOR_EACH_CONFIG(X) \
+  X(::itp::DefaultConfig)      \
+  X(::itp::CompactConfig)
