@@ -51,6 +51,35 @@ TEST_CASE("Scene and Plan messages round-trip within float precision") {
   CHECK_FALSE(itp::link::decode_scene(std::span<const std::uint8_t>(body.data(), m / 2), hb, *back));
 }
 
+TEST_CASE("a scene and a plan filled to capacity encode to the computed maximum sizes") {
+  using Cfg = itp::DefaultConfig;
+  auto scene = std::make_unique<itp::scene::Scene>();
+  while (scene->reference_line.push_back({static_cast<double>(scene->reference_line.size()), 0})) {
+  }
+  for (auto* b : {&scene->road.left, &scene->road.right}) {
+    while (b->table.push_back({static_cast<double>(b->table.size()), 2.0})) {
+    }
+  }
+  while (scene->static_obstacles.push_back({})) {
+  }
+  while (scene->dynamic_obstacles.push_back({})) {
+  }
+  for (auto& o : scene->dynamic_obstacles) {
+    while (o.trajectory.push_back({})) {
+    }
+  }
+  std::vector<std::uint8_t> body(itp::config::kMaxPayloadBytes);
+  CHECK(itp::link::encode_scene({}, *scene, 1, body) == itp::link::kMaxSceneBytes<Cfg>);
+  auto plan = std::make_unique<itp::planner::Plan>();
+  while (plan->trajectory.push_back({})) {
+  }
+  while (plan->decisions.push_back({})) {
+  }
+  CHECK(itp::link::encode_plan(1, 0, 0, *plan, body) == itp::link::kMaxPlanBytes<Cfg>);
+  // One payload holds the largest of either (checked at compile time as well).
+  CHECK(itp::link::kMaxSceneBytes<Cfg> <= itp::config::kMaxPayloadBytes);
+}
+
 TEST_CASE("the host-port firmware plans generated scenes like the in-process planner") {
   std::string error;
   auto endpoint = make_link_endpoint("host", "", &error);

@@ -269,6 +269,7 @@ bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle,
 
 // Explicit instantiations for every configuration (itp/configurations.hpp).
 #define ITP_INSTANTIATE(C)                                                                         \
+  static_assert(fits_link<C>(), "a scene or plan of this configuration does not fit the link"); \
   template std::size_t encode_scene<C>(const SceneHeader&, const scene::BasicScene<C>&, int,       \
                                        std::span<std::uint8_t>);                                   \
   template bool decode_scene<C>(std::span<const std::uint8_t>, SceneHeader&,                       \

@@ -19,6 +19,27 @@ struct SceneHeader {
   bool reset = false;       // first cycle of a new scene: forget the previous plan
 };
 
+// Largest Scene and Plan bodies of configuration Cfg [bytes] (docs/protocol.md
+// gives the layouts). Counts travel as one byte each, and a body must fit one
+// link payload: both are checked for every configuration at compile time.
+template <class Cfg>
+inline constexpr std::size_t kMaxSceneBytes =
+    29 + (1 + 8 * Cfg::kMaxReferencePoints) + 12 + 2 * (5 + 8 * Cfg::kMaxBoundaryPoints) + 52 +
+    (1 + 24 * Cfg::kMaxStaticObstacles) +
+    (1 + Cfg::kMaxDynamicObstacles * (13 + 20 * Cfg::kMaxPredictionSamples));
+template <class Cfg>
+inline constexpr std::size_t kMaxPlanBytes =
+    89 + 36 * Cfg::kTrajectorySamples + 1 + 7 * Cfg::kMaxObstacles;
+
+template <class Cfg>
+constexpr bool fits_link() {
+  return kMaxSceneBytes<Cfg> <= config::kMaxPayloadBytes &&
+         kMaxPlanBytes<Cfg> <= config::kMaxPayloadBytes && Cfg::kMaxReferencePoints <= 255 &&
+         Cfg::kMaxBoundaryPoints <= 255 && Cfg::kMaxStaticObstacles <= 255 &&
+         Cfg::kMaxDynamicObstacles <= 255 && Cfg::kMaxPredictionSamples <= 255 &&
+         Cfg::kTrajectorySamples <= 255 && Cfg::kMaxObstacles <= 255;
+}
+
 // Returns the payload size, 0 if it does not fit `out`.
 template <class Cfg>
 std::size_t encode_scene(const SceneHeader& header, const scene::BasicScene<Cfg>& scene,
