@@ -144,6 +144,13 @@ void PathOptimizer::solve(const decision::ConvexSpace& space, const decision::De
                     w.d1 == factored_weights_.d1 && w.d2 == factored_weights_.d2 &&
                     w.d3 == factored_weights_.d3 && w.obstacle == factored_weights_.obstacle;
   const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
+  // A path QP that failed (infeasible, or at the iteration cap) still leaves a
+  // valid factor of H, and its working set is where the corridor pinches: the
+  // next solve, usually the same corridor at the steering limit, hotstarts
+  // from it instead of cold (e.g. 2 or 17-30 iterations where cold hit the cap of 60).
+  if (st == qp::QpStatus::kInfeasible || st == qp::QpStatus::kIterationLimit) {
+    have_factor_ = true;
+  }
   factored_h_ = h;
   factored_front_ = in.front_reach;
   factored_rear_ = in.rear_reach;
