@@ -39,6 +39,18 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
                                                w.d1 * spline::gram(h, 1) +
                                                w.d2 * spline::gram(h, 2) + w.d3 * spline::gram(h, 3));
   const Scalar half_width = Scalar(0.5) * in.vehicle_width;
+  // The rows at the samples and the target term depend on h only: evaluated
+  // once here, not again in every block (300 evaluations were 1/6 of a path solve).
+  std::array<spline::Row6, Cfg::kPathSamplesPerBlock> r0s;
+  std::array<spline::Row6, Cfg::kPathSamplesPerBlock> r1s;
+  std::array<spline::Row6, Cfg::kPathSamplesPerBlock> r2s;
+  for (int k = 0; k < Cfg::kPathSamplesPerBlock; ++k) {  // samples per block
+    const Scalar tau = h * static_cast<Scalar>(k) / static_cast<Scalar>(Cfg::kPathSamplesPerBlock);
+    r0s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 0);
+    r1s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 1);
+    r2s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 2);
+  }
+  const spline::Row6 target_lin = -Scalar(2) * w.target * in.l_target * spline::integral_row(h, 0, h);
   int row = 0;
   for (int b = 0; b < Cfg::kPathBlocks; ++b) {  // kPathBlocks
     const int v0 = var(b, 0);
@@ -49,7 +61,7 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
     }
     // Linear terms: -2 w0 l_target ∫l and -2 w_obs ∫ l l_mid, l_mid constant per zone.
     const Scalar sb = in.s0 + h * static_cast<Scalar>(b);
-    spline::Row6 lin = -Scalar(2) * w.target * in.l_target * spline::integral_row(h, 0, h);
+    spline::Row6 lin = target_lin;
     for (std::int16_t zi : decision.zones) {  // <= kMaxSlices
       const decision::Zone& z = space.zones[static_cast<std::size_t>(zi)];
       const Scalar a = (z.s_begin > sb ? z.s_begin : sb) - sb;
@@ -74,9 +86,9 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
       const Scalar tau =
           h * static_cast<Scalar>(k) / static_cast<Scalar>(Cfg::kPathSamplesPerBlock);
       const Scalar s = sb + tau;
-      const spline::Row6 r0 = spline::evaluate_row(h, tau, 0);
-      const spline::Row6 r1 = spline::evaluate_row(h, tau, 1);
-      const spline::Row6 r2 = spline::evaluate_row(h, tau, 2);
+      const spline::Row6& r0 = r0s[static_cast<std::size_t>(k)];
+      const spline::Row6& r1 = r1s[static_cast<std::size_t>(k)];
+      const spline::Row6& r2 = r2s[static_cast<std::size_t>(k)];
       const decision::LateralInterval c = decision::corridor_at(space, decision, s);
       const bool at_start = b == 0 && k == 0;  // fixed by init_sl: never binding
       for (int i = 0; i < 6; ++i) {  // rows touch the 6 block variables
@@ -137,6 +149,13 @@ void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& de
                     w.d1 == factored_weights_.d1 && w.d2 == factored_weights_.d2 &&
                     w.d3 == factored_weights_.d3 && w.obstacle == factored_weights_.obstacle;
   const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
+  // A path QP that failed (infeasible, or at the iteration cap) still leaves a
+  // valid factor of H, and its working set is where the corridor pinches: the
+  // next solve, usually the same corridor at the steering limit, hotstarts
+  // from it instead of cold (e.g. 2 or 17-30 iterations where cold hit the cap of 60).
+  if (st == qp::QpStatus::kInfeasible || st == qp::QpStatus::kIterationLimit) {
+    have_factor_ = true;
+  }
   factored_h_ = h;
   factored_front_ = in.front_reach;
   factored_rear_ = in.rear_reach;

@@ -40,6 +40,16 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
       Scalar(2) * (w.s_up * spline::gram(h, 0) + w.v * spline::gram(h, 1) +
                    w.a * spline::gram(h, 2) + w.jerk * spline::gram(h, 3));
   const int per = Cfg::kSpeedSamplesPerBlock;
+  // The rows at the samples depend on h only: evaluated once, not per block.
+  std::array<spline::Row6, Cfg::kSpeedSamplesPerBlock> r0s;
+  std::array<spline::Row6, Cfg::kSpeedSamplesPerBlock> r1s;
+  std::array<spline::Row6, Cfg::kSpeedSamplesPerBlock> r2s;
+  for (int k = 0; k < per; ++k) {  // samples per block
+    const Scalar tau = h * static_cast<Scalar>(k) / static_cast<Scalar>(per);
+    r0s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 0);
+    r1s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 1);
+    r2s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 2);
+  }
   int row = 0;
   for (int b = 0; b < Cfg::kSpeedBlocks; ++b) {  // kSpeedBlocks
     const int v0 = var(b, 0);
@@ -59,11 +69,10 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
       problem_.g[v0 + i] += lin(i);
     }
     for (int k = 0; k < per; ++k) {  // samples per block
-      const Scalar tau = h * static_cast<Scalar>(k) / static_cast<Scalar>(per);
       const auto u = static_cast<std::size_t>(b * per + k);
-      const spline::Row6 r0 = spline::evaluate_row(h, tau, 0);
-      const spline::Row6 r1 = spline::evaluate_row(h, tau, 1);
-      const spline::Row6 r2 = spline::evaluate_row(h, tau, 2);
+      const spline::Row6& r0 = r0s[static_cast<std::size_t>(k)];
+      const spline::Row6& r1 = r1s[static_cast<std::size_t>(k)];
+      const spline::Row6& r2 = r2s[static_cast<std::size_t>(k)];
       for (int i = 0; i < 6; ++i) {  // rows touch the 6 block variables
         static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i)));
         static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r1(i)));

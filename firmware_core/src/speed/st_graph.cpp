@@ -14,6 +14,9 @@ constexpr Scalar kKappaFloor = Scalar(1e-4);     // [1/m]
 constexpr Scalar kMovingAlong = Scalar(0.5);     // [m/s] slower is not "moving along the path"
 template <class Cfg>
 constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);  // [s]
+// [m] a guess this close to the follow limit is on it: a speed QP's solution
+// sits on its active bound, so the strict test flipped on rounding.
+constexpr Scalar kOnLimit = Scalar(1e-6);
 
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
@@ -118,8 +121,8 @@ void apply(const BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
         b.s_hi[u] = min_of(b.s_hi[u], limit);
         // The speed condition needs a consistent guess (behind the limit);
         // a too optimistic one (step 0) leaves the s bound alone to act.
-        if (s_guess[u] <= limit) {
-          const Scalar room = limit - s_guess[u];
+        if (s_guess[u] <= limit + kOnLimit) {
+          const Scalar room = max_of(limit - s_guess[u], Scalar(0));
           b.v_hi[u] = min_of(b.v_hi[u], v_obj + std::sqrt(Scalar(-2) * p.limits.a_min * room));
         }
         b.v_ref[u] = min_of(b.v_ref[u], v_obj);

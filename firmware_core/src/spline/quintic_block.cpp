@@ -71,9 +71,20 @@ Row6 linear_moment(Scalar h, Scalar r0, Scalar r1, int derivative) {
 }
 
 Scalar eval_monomial(const Scalar* c, Scalar tau, int derivative) {
+  // falling(i, k) for k = 0..kMaxDerivative: the same exact integers, looked up
+  // (the planner evaluates its splines about 5000 times per cycle).
+  static constexpr Scalar kFalling[kMaxDerivative + 1][kBlockStates] = {
+      {1, 1, 1, 1, 1, 1}, {0, 1, 2, 3, 4, 5}, {0, 0, 2, 6, 12, 20}, {0, 0, 0, 6, 24, 60}};
   Scalar v = 0;
+  if (derivative < 0 || derivative > kMaxDerivative) {
+    for (int i = kBlockStates - 1; i >= derivative && i >= 0; --i) {  // 6 coefficients
+      v = v * tau + falling(i, derivative) * c[i];
+    }
+    return v;
+  }
+  const Scalar* f = kFalling[derivative];
   for (int i = kBlockStates - 1; i >= derivative; --i) {  // 6 coefficients
-    v = v * tau + falling(i, derivative) * c[i];
+    v = v * tau + f[i] * c[i];
   }
   return v;
 }
