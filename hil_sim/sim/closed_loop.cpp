@@ -230,6 +230,13 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
         }
         sample.reason = rec.reason;
         rec.iterations = plan->iterations;
+        for (const itp::planner::ObstacleDecision& d : plan->decisions) {
+          const char side = d.lateral == itp::planner::LateralSide::kLeft    ? 'L'
+                            : d.lateral == itp::planner::LateralSide::kRight ? 'R'
+                                                                             : '-';
+          rec.decisions += fmt::format("{}{}:{}/{}", rec.decisions.empty() ? "" : " ", d.obstacle, side,
+                                       itp::speed::to_string(d.longitudinal));
+        }
         if (rec.status != PlanStatus::kInvalidInput) sample.iterations = plan->iterations;
         if (er.cycle_time_us >= 0) sample.cycle_time_us = rec.cycle_time_us = er.cycle_time_us;
         if (er.instructions >= 0) sample.instructions = rec.instructions = er.instructions;
@@ -239,6 +246,7 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
           std::vector<TrajectoryPoint> track = to_track(*plan);
           rec.v_plan = sample_plan(track, 1.0).v;
           rec.path_deviation = metrics.add_plan(t, track);
+          rec.path_deviation_t = metrics.last_path_deviation_time();
           controller.set_plan(std::move(track), t);
         }
       }
@@ -452,7 +460,11 @@ void write_trace(std::ofstream& out, const std::string& scene, const SceneRunRes
     json j{{"scene", scene}, {"t", c.t}, {"status", status_name(c.status)}, {"reason", c.reason},
            {"iterations", c.iterations}, {"v", c.v}, {"v_plan", c.v_plan}, {"a_lon", c.a_lon},
            {"a_lat", c.a_lat}, {"collision", c.collision}};
-    if (c.path_deviation >= 0) j["path_deviation"] = c.path_deviation;
+    if (c.path_deviation >= 0) {
+      j["path_deviation"] = c.path_deviation;
+      j["path_deviation_t"] = c.path_deviation_t;
+    }
+    j["decisions"] = c.decisions;
     j["clearance"] = c.clearance ? json(*c.clearance) : json(nullptr);
     if (k < r.trace.size()) {
       j["x"] = r.trace[k].pose.x;

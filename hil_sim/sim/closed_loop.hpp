@@ -50,6 +50,8 @@ struct CycleRecord {
   std::optional<double> clearance; // [m] min true distance to an obstacle at t
   bool collision = false;          // an overlap at t
   double path_deviation = -1.0;    // [m] this plan's path vs the previous plan's (< 0: none)
+  double path_deviation_t = 0.0;   // [s] plan time of that largest deviation
+  std::string decisions;           // per obstacle "id:lateral/longitudinal", e.g. "3:L/ignore 7:-/follow"
 };
 
 // A cycle worth a look (RunOptions::keep_snapshot): the first fallback /

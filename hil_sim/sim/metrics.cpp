@@ -102,7 +102,10 @@ double SceneMetrics::add_plan(double t_start, std::span<const TrajectoryPoint> p
       for (const auto& q : plan) {
         const PolylineProjection pr = project_to_polyline(prev_path, q.x, q.y);
         if (pr.s < 0.0 || pr.s > length) continue;  // beyond the previous path's ends
-        path_dev = std::max(path_dev, std::abs(pr.l));
+        if (std::abs(pr.l) > path_dev) {
+          path_dev = std::abs(pr.l);
+          last_dev_t_ = q.t;
+        }
         any_path = true;
       }
       if (any_path) {

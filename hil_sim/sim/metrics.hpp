@@ -81,6 +81,8 @@ class SceneMetrics {
   // feeds plan consistency.
   // Returns this plan's path deviation from the previous one [m] (-1: none to compare).
   double add_plan(double t_start, std::span<const TrajectoryPoint> plan);
+  // Where that deviation is largest: the new plan's sample time [s from its start].
+  double last_path_deviation_time() const { return last_dev_t_; }
   void add_link_error(int count = 1);
   void set_crashed(std::string reason);
   const SceneSummary& summary() const { return s_; }
@@ -92,6 +94,7 @@ class SceneMetrics {
   double last_t_ = 0.0;
   std::vector<TrajectoryPoint> prev_plan_;
   double prev_start_ = 0.0;
+  double last_dev_t_ = 0.0;
 };
 
 struct Stats {
