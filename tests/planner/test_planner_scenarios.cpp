@@ -190,3 +190,42 @@ TEST_CASE("after reset() a reused planner gives bit-identical output to a fresh 
   CHECK(std::memcmp(reused.plan->trajectory.data(), fresh.plan->trajectory.data(),
                     sizeof(TrajectoryPoint) * fresh.plan->trajectory.size()) == 0);
 }
+
+TEST_CASE("a reference line that starts later (a sender's window) keeps stitching to the previous plan") {
+  // Cycle 1 plans a pass; cycle 2, 0.1 s later with the ego where the plan put
+  // it, gets the same road either whole or without its first 3 points (s = 0
+  // moves 6 m). Both must stitch to cycle 1's plan and plan the same motion.
+  Scene s = road_scene(1, 0, 0, 250);
+  add_static(s, 1, 45, 0.2);
+  Run first;
+  first.go(s);
+  REQUIRE(first.status == itp::PlanStatus::kOk);
+  const TrajectoryPoint& q = first.plan->trajectory[1];
+  Scene next = s;
+  next.ego.state.x = q.x;
+  next.ego.state.y = q.y;
+  next.ego.state.heading = q.heading;
+  next.ego.state.v = q.v;
+  next.ego.state.a = q.a;
+  next.ego.state.kappa = q.kappa;
+  Scene cropped = next;
+  cropped.reference_line.clear();
+  for (std::size_t i = 3; i < next.reference_line.size(); ++i) {
+    REQUIRE(cropped.reference_line.push_back(next.reference_line[i]));
+  }
+  Run whole = std::move(first);
+  Run shifted;
+  shifted.go(s);
+  whole.go(next, 0.1);
+  shifted.go(cropped, 0.1);
+  REQUIRE(whole.status == itp::PlanStatus::kOk);
+  REQUIRE(shifted.status == itp::PlanStatus::kOk);
+  CHECK(shifted.plan->iterations == whole.plan->iterations);
+  REQUIRE(shifted.plan->trajectory.size() == whole.plan->trajectory.size());
+  for (std::size_t k = 0; k < whole.plan->trajectory.size(); ++k) {
+    const TrajectoryPoint& a = whole.plan->trajectory[k];
+    const TrajectoryPoint& b = shifted.plan->trajectory[k];
+    CHECK(std::hypot(a.x - b.x, a.y - b.y) < 0.01);
+    CHECK(b.s == doctest::Approx(a.s - 6.0).epsilon(1e-3));
+  }
+}

@@ -103,6 +103,14 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
     out.invalid = scene::ValidationReason::kReferenceLineSharpTurn;
     return false;
   }
+  // Last cycle's path (stitching and the warm start read it by s) in this
+  // cycle's frame: the reference line may start at a later polyline point
+  // (a sender keeps a window around the ego), which moves s = 0.
+  const geometry::Point2 origin = scene.reference_line[0];
+  if (last_cycle_ok_ && (origin.x != origin_.x || origin.y != origin_.y)) {
+    path_.s0 += reference_.to_frenet(origin_).s;
+  }
+  origin_ = origin;
   const scene::Ego& ego = scene.ego;
   rear_ = Scalar(0.5) * (ego.geometry.length - ego.geometry.wheelbase);
   front_ = ego.geometry.length - rear_;

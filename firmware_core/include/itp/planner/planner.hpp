@@ -156,6 +156,7 @@ class BasicPlanner {
   CurvatureProfile kappa_bound_{};  // |κ| the path may have at the expected speed
   RoadSl road_{};
   decision::VehicleLimits limits_{};
+  geometry::Point2 origin_{};  // [m] first reference point (s = 0) of the last prepared cycle
   Scalar lane_target_ = 0;  // [m] target lane centre
   Scalar s_start_ = 0;   // [m] path start (the ego's s)
   Scalar length_ = 0;    // [m] path length this cycle
