@@ -617,7 +617,12 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
                                     path::PathInput& pi, Plan& out) {
   bool skip[config::kMaxDynamicObstacles] = {};
   chosen_ = -1;
+  FallbackReason why = FallbackReason::kNoDecision;  // why the next round is needed
   for (int round = 0; round <= config::kMaxDynamicObstacles; ++round) {  // one more left-out obstacle per round
+    if (decision_runs_ >= config::kMaxDecisionRunsPerCycle) {
+      return why;  // budget spent: the worst case stays bounded (WCET), the caller falls back
+    }
+    ++decision_runs_;
     std::uint64_t t0 = ticks_.ticks();
     while (boxes_.size() > n_static) {  // drop last round's dynamic boxes
       boxes_.pop_back();
@@ -634,6 +639,7 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
       return FallbackReason::kNoDecision;
     }
     int drop = -1;
+    why = FallbackReason::kNoDecision;
     if (ds == decision::DecisionStatus::kNoDecision || decision_.best() < 0) {
       drop = nearest_dynamic(n_static, skip, false, Scalar(0));
       if (drop < 0) {
@@ -680,6 +686,7 @@ FallbackReason Planner::decide_path(const std::array<Scalar, speed::kStSamples>&
       if (drop < 0 || path_solves_ >= config::kMaxPathSolvesPerCycle) {
         return FallbackReason::kPathQpFailed;
       }
+      why = FallbackReason::kPathQpFailed;
     }
     skip[drop] = true;
   }
@@ -878,6 +885,7 @@ PlanStatus Planner::plan(const PlanRequest& request, Plan& out) {
   chosen_ = -1;
   infeasible_.clear();
   path_solves_ = 0;
+  decision_runs_ = 0;
   if (request.scene == nullptr) {
     out.status = PlanStatus::kInvalidInput;
     fallback(nullptr, request.now, FallbackReason::kNone, out);
