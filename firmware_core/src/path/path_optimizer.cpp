@@ -32,19 +32,31 @@ Scalar BasicPathResult<Cfg>::eval(Scalar s, int derivative) const {
 
 template <class Cfg>
 void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& decision,
-                                    const PathInput& in, const PathWeights& w, Scalar h) {
+                          const PathInput& in, const PathWeights& w, Scalar h, bool same_matrices) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
-  static_cast<void>(problem_.reset(Cfg::kPathVariables, Cfg::kPathQpRows));
-  const spline::Matrix6 block_h = Scalar(2) * ((w.target + w.obstacle) * spline::gram(h, 0) +
-                                               w.d1 * spline::gram(h, 1) +
-                                               w.d2 * spline::gram(h, 2) + w.d3 * spline::gram(h, 3));
+  // H and A as the last build's (same h, reaches and weights): kept, only g
+  // and the bounds are written again (the assembly was a quarter of a solve).
+  if (same_matrices) {
+    for (int i = 0; i < Cfg::kPathVariables; ++i) {  // 63
+      problem_.g[i] = 0;
+      problem_.lb[i] = -inf;
+      problem_.ub[i] = inf;
+    }
+  } else {
+    static_cast<void>(problem_.reset(Cfg::kPathVariables, Cfg::kPathQpRows));
+  }
+  const spline::Matrix6 block_h =
+      same_matrices ? spline::Matrix6(spline::Matrix6::Zero())
+                    : spline::Matrix6(Scalar(2) * ((w.target + w.obstacle) * spline::gram(h, 0) +
+                                                   w.d1 * spline::gram(h, 1) +
+                                                   w.d2 * spline::gram(h, 2) + w.d3 * spline::gram(h, 3)));
   const Scalar half_width = Scalar(0.5) * in.vehicle_width;
   // The rows at the samples and the target term depend on h only: evaluated
   // once here, not again in every block (300 evaluations were 1/6 of a path solve).
   std::array<spline::Row6, Cfg::kPathSamplesPerBlock> r0s;
   std::array<spline::Row6, Cfg::kPathSamplesPerBlock> r1s;
   std::array<spline::Row6, Cfg::kPathSamplesPerBlock> r2s;
-  for (int k = 0; k < Cfg::kPathSamplesPerBlock; ++k) {  // samples per block
+  for (int k = 0; k < Cfg::kPathSamplesPerBlock && !same_matrices; ++k) {  // samples per block
     const Scalar tau = h * static_cast<Scalar>(k) / static_cast<Scalar>(Cfg::kPathSamplesPerBlock);
     r0s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 0);
     r1s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 1);
@@ -54,7 +66,7 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
   int row = 0;
   for (int b = 0; b < Cfg::kPathBlocks; ++b) {  // kPathBlocks
     const int v0 = var(b, 0);
-    for (int i = 0; i < 6; ++i) {    // block Hessian into the band
+    for (int i = 0; i < 6 && !same_matrices; ++i) {    // block Hessian into the band
       for (int j = 0; j <= i; ++j) {
         static_cast<void>(problem_.set_hessian(v0 + i, v0 + j, problem_.hessian(v0 + i, v0 + j) + block_h(i, j)));
       }
@@ -91,7 +103,7 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
       const spline::Row6& r2 = r2s[static_cast<std::size_t>(k)];
       const decision::LateralInterval c = decision::corridor_at(space, decision, s);
       const bool at_start = b == 0 && k == 0;  // fixed by init_sl: never binding
-      for (int i = 0; i < 6; ++i) {  // rows touch the 6 block variables
+      for (int i = 0; i < 6 && !same_matrices; ++i) {  // rows touch the 6 block variables
         static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i) + in.front_reach * r1(i)));
         static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r0(i) - in.rear_reach * r1(i)));
         static_cast<void>(problem_.push_row_entry(row + 2, v0 + i, r1(i)));
@@ -138,16 +150,16 @@ void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& de
     out.status = qp::QpStatus::kInvalidInput;
     return;
   }
-  build(space, decision, in, w, h);
-  if (observer_ != nullptr && observer_->path != nullptr) {
-    observer_->path(observer_->context, problem_);
-  }
   // H and A depend only on h, the bumper reaches and the weights, never on the corridor:
   // hotstart whenever they match (new g and bounds only).
   const bool same = h == factored_h_ && in.front_reach == factored_front_ && in.rear_reach == factored_rear_ &&
                     w.target == factored_weights_.target &&
                     w.d1 == factored_weights_.d1 && w.d2 == factored_weights_.d2 &&
                     w.d3 == factored_weights_.d3 && w.obstacle == factored_weights_.obstacle;
+  build(space, decision, in, w, h, same);
+  if (observer_ != nullptr && observer_->path != nullptr) {
+    observer_->path(observer_->context, problem_);
+  }
   const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
   // A path QP that failed (infeasible, or at the iteration cap) still leaves a
   // valid factor of H, and its working set is where the corridor pinches: the

@@ -648,8 +648,12 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
                                               const CoarseInput& ci, PathInput& pi, Plan& out) {
   bool skip[Cfg::kMaxDynamicObstacles] = {};
   chosen_ = -1;
-  for (int round = 0; round <= Cfg::kMaxDynamicObstacles;
-       ++round) {  // one more left-out obstacle per round
+  FallbackReason why = FallbackReason::kNoDecision;  // why the next round is needed
+  for (int round = 0; round <= Cfg::kMaxDynamicObstacles; ++round) {  // one more left-out obstacle per round
+    if (decision_runs_ >= Cfg::kMaxDecisionRunsPerCycle) {
+      return why;  // budget spent: the worst case stays bounded (WCET), the caller falls back
+    }
+    ++decision_runs_;
     std::uint64_t t0 = ticks_.ticks();
     while (boxes_.size() > n_static) {  // drop last round's dynamic boxes
       boxes_.pop_back();
@@ -666,6 +670,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
       return FallbackReason::kNoDecision;
     }
     int drop = -1;
+    why = FallbackReason::kNoDecision;
     if (ds == decision::DecisionStatus::kNoDecision || decision_.best() < 0) {
       drop = nearest_dynamic(n_static, skip, false, Scalar(0));
       if (drop < 0) {
@@ -712,6 +717,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
       if (drop < 0 || path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
         return FallbackReason::kPathQpFailed;
       }
+      why = FallbackReason::kPathQpFailed;
     }
     skip[drop] = true;
   }
@@ -804,7 +810,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     ++out.qp_solves;
     out.qp_iterations += speed_.iterations;
     if (qp::is_usable(speed_.status)) {
-      for (int k = 0; k < kSamples; ++k) {  // kStSamples
+      for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
         const auto u = static_cast<std::size_t>(k);
         s_guess[u] = speed_.eval(kDt * static_cast<Scalar>(k), 0);
         v_guess[u] = speed_.eval(kDt * static_cast<Scalar>(k), 1);
@@ -915,6 +921,7 @@ PlanStatus BasicPlanner<Cfg>::plan(const PlanRequest& request, Plan& out) {
   chosen_ = -1;
   infeasible_.clear();
   path_solves_ = 0;
+  decision_runs_ = 0;
   if (request.scene == nullptr) {
     out.status = PlanStatus::kInvalidInput;
     fallback(nullptr, request.now, FallbackReason::kNone, out);

@@ -32,19 +32,28 @@ Scalar BasicSpeedResult<Cfg>::eval(Scalar t, int derivative) const {
 }
 
 template <class Cfg>
-void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd,
-                                     const SpeedWeights& w, Scalar h) {
+void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd, const SpeedWeights& w,
+                           Scalar h, bool same_matrices) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
-  static_cast<void>(problem_.reset(Cfg::kSpeedVariables, Cfg::kSpeedQpRows));
+  // H and A as the last build's (same h and weights): kept, only g and the
+  // bounds are written again (every bound is, below).
+  if (same_matrices) {
+    for (int i = 0; i < Cfg::kSpeedVariables; ++i) {  // 45
+      problem_.g[i] = 0;
+    }
+  } else {
+    static_cast<void>(problem_.reset(Cfg::kSpeedVariables, Cfg::kSpeedQpRows));
+  }
   const spline::Matrix6 block_h =
-      Scalar(2) * (w.s_up * spline::gram(h, 0) + w.v * spline::gram(h, 1) +
-                   w.a * spline::gram(h, 2) + w.jerk * spline::gram(h, 3));
+      same_matrices ? spline::Matrix6(spline::Matrix6::Zero())
+                    : spline::Matrix6(Scalar(2) * (w.s_up * spline::gram(h, 0) + w.v * spline::gram(h, 1) +
+                                                   w.a * spline::gram(h, 2) + w.jerk * spline::gram(h, 3)));
   const int per = Cfg::kSpeedSamplesPerBlock;
   // The rows at the samples depend on h only: evaluated once, not per block.
   std::array<spline::Row6, Cfg::kSpeedSamplesPerBlock> r0s;
   std::array<spline::Row6, Cfg::kSpeedSamplesPerBlock> r1s;
   std::array<spline::Row6, Cfg::kSpeedSamplesPerBlock> r2s;
-  for (int k = 0; k < per; ++k) {  // samples per block
+  for (int k = 0; k < per && !same_matrices; ++k) {  // samples per block
     const Scalar tau = h * static_cast<Scalar>(k) / static_cast<Scalar>(per);
     r0s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 0);
     r1s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 1);
@@ -53,7 +62,7 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
   int row = 0;
   for (int b = 0; b < Cfg::kSpeedBlocks; ++b) {  // kSpeedBlocks
     const int v0 = var(b, 0);
-    for (int i = 0; i < 6; ++i) {  // block Hessian into the band
+    for (int i = 0; i < 6 && !same_matrices; ++i) {  // block Hessian into the band
       for (int j = 0; j <= i; ++j) {
         static_cast<void>(problem_.set_hessian(v0 + i, v0 + j, problem_.hessian(v0 + i, v0 + j) + block_h(i, j)));
       }
@@ -73,7 +82,7 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
       const spline::Row6& r0 = r0s[static_cast<std::size_t>(k)];
       const spline::Row6& r1 = r1s[static_cast<std::size_t>(k)];
       const spline::Row6& r2 = r2s[static_cast<std::size_t>(k)];
-      for (int i = 0; i < 6; ++i) {  // rows touch the 6 block variables
+      for (int i = 0; i < 6 && !same_matrices; ++i) {  // rows touch the 6 block variables
         static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i)));
         static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r1(i)));
         static_cast<void>(problem_.push_row_entry(row + 2, v0 + i, r2(i)));
@@ -111,14 +120,14 @@ void BasicSpeedOptimizer<Cfg>::solve(const SpeedInput& in, const SpeedBounds& bo
     out.status = qp::QpStatus::kInvalidInput;
     return;
   }
-  build(in, bounds, w, h);
-  if (observer_ != nullptr && observer_->speed != nullptr) {
-    observer_->speed(observer_->context, problem_);
-  }
   // H and A depend only on h and the weights: hotstart whenever they match.
   const bool same = h == factored_h_ && w.s_up == factored_weights_.s_up &&
                     w.v == factored_weights_.v && w.a == factored_weights_.a &&
                     w.jerk == factored_weights_.jerk;
+  build(in, bounds, w, h, same);
+  if (observer_ != nullptr && observer_->speed != nullptr) {
+    observer_->speed(observer_->context, problem_);
+  }
   const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
   factored_h_ = h;
   factored_weights_ = w;

@@ -84,8 +84,9 @@ class BasicPathOptimizer {
   const qp::QpProblem<PathDims>& problem() const { return problem_; }
 
  private:
+  // same_matrices: h, the reaches and the weights are the last build's (H and A kept).
   void build(const ConvexSpace& space, const Decision& decision, const PathInput& in,
-             const PathWeights& w, Scalar h);
+             const PathWeights& w, Scalar h, bool same_matrices);
 
   qp::QpProblem<PathDims> problem_{};
   qp::QpWorkspace<PathDims> workspace_{};

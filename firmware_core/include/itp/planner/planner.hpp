@@ -178,6 +178,7 @@ class BasicPlanner {
   // Corridors whose path QP failed at the steering limit this cycle (skipped when met again).
   StaticVector<std::uint64_t, Cfg::kRememberedInfeasibleCorridors> infeasible_;
   int path_solves_ = 0;  // path QPs solved this cycle (<= kMaxPathSolvesPerCycle)
+  int decision_runs_ = 0;  // decision-stage runs this cycle (<= kMaxDecisionRunsPerCycle)
   int chosen_ = -1;  // decision index in decision_.decisions().kept
   bool blocked_ = false;  // the chosen corridor ends at static obstacles
 

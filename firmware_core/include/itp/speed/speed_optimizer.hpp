@@ -75,7 +75,9 @@ class BasicSpeedOptimizer {
   const qp::QpProblem<SpeedDims>& problem() const { return problem_; }
 
  private:
-  void build(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w, Scalar h);
+  // same_matrices: h and the weights are the last build's (H and A kept).
+  void build(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w, Scalar h,
+             bool same_matrices);
 
   qp::QpProblem<SpeedDims> problem_{};
   qp::QpWorkspace<SpeedDims> workspace_{};
