@@ -789,13 +789,16 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
       last_s[u] = s_guess[u];
       last_l[u] = path_.eval(start.s + s_guess[u], 0);
     }
-  } else {
-    // Cold start: accelerating to the speed limit puts the ego far ahead of
+  } else if (!have_previous_) {
+    // First cycle: accelerating to the speed limit puts the ego far ahead of
     // where a leader or the road's curvature lets it be, so the first
     // iteration met the moving obstacles at the wrong places and two more were
     // needed to settle. The step-0 guess is a speed plan instead: ST graph and
     // speed QP along the lane the ego is in (l = init_sl's l; path_ holds it
     // until the path QP). First cycles of the envelope scenes: 3.1 -> 2.4 iterations.
+    // Not after a fallback: there the iteration from this guess could settle on
+    // plans that keep colliding (a truth-prediction scene stopped in the way of
+    // a car from behind), which the reference-profile guess avoids.
     const std::uint64_t t0 = ticks_.ticks();
     path_ = PathResult{};
     path_.status = qp::QpStatus::kOptimal;
