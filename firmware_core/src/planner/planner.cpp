@@ -772,6 +772,8 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
   const std::size_t n_static = boxes_.size();
   StSamples last_s{};
   StSamples last_l{};
+  StSamples last2_s{};  // two iterations back (a 2-cycle of the iteration)
+  StSamples last2_l{};
   // Warm start: a stitched cycle starts the iteration from the previous
   // plan's motion (still in path_ and speed_), so a plan that still holds is
   // confirmed by the first iteration instead of re-derived from step 0.
@@ -869,12 +871,18 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     safe = first_collision(scene, now_, out) < 0;
     Scalar change_s = 0;
     Scalar change_l = 0;
+    Scalar change2_s = 0;
+    Scalar change2_l = 0;
     for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
       const auto u = static_cast<std::size_t>(k);
       const Scalar s = speed_.eval(kDt * static_cast<Scalar>(k), 0);
       const Scalar l = out.trajectory[u].l;
       change_s = max_of(change_s, std::fabs(s - last_s[u]));
       change_l = max_of(change_l, std::fabs(l - last_l[u]));
+      change2_s = max_of(change2_s, std::fabs(s - last2_s[u]));
+      change2_l = max_of(change2_l, std::fabs(l - last2_l[u]));
+      last2_s[u] = last_s[u];
+      last2_l[u] = last_l[u];
       last_s[u] = s;
       last_l[u] = l;
       s_guess[u] = s;
@@ -883,6 +891,14 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     out.timing.check += ticks_.ticks() - t0;
     const bool converged = (iter > 0 || warm) && change_s < settings_.converge_s && change_l < settings_.converge_l;
     if (safe && converged) {
+      break;
+    }
+    // A 2-cycle (this result within the thresholds of the one two iterations
+    // back): the remaining iterations would only alternate, and the last one
+    // would return this result again when it has the same parity.
+    const bool cycling = iter >= 2 && (Cfg::kMaxPlannerIterations - 1 - iter) % 2 == 0 &&
+                         change2_s < settings_.converge_s && change2_l < settings_.converge_l;
+    if (safe && cycling) {
       break;
     }
     if (blocked_ && safe && iter > 0) {
