@@ -40,6 +40,17 @@ double rear_overhang(const S& s) {
   return 0.5 * (s.ego.geometry.length - s.ego.geometry.wheelbase);
 }
 
+// The plan's decision for obstacle `id` (a default one, side kNone and
+// longitudinal kIgnore, when the plan does not name it).
+template <class P>
+itp::planner::ObstacleDecision decision_for(const P& plan, std::int32_t id) {
+  itp::planner::ObstacleDecision found;
+  for (const itp::planner::ObstacleDecision& d : plan.decisions) {
+    if (d.obstacle == id) found = d;
+  }
+  return found;
+}
+
 // Smallest distance between the ego's footprint and any obstacle over the plan.
 template <class S, class P>
 double min_clearance(const S& s, const P& p) {

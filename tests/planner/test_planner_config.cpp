@@ -55,12 +55,7 @@ TEST_CASE("configuration: compact planner passes a static obstacle with clearanc
   REQUIRE(r.status == itp::PlanStatus::kOk);
   check_limits(s, *r.plan);
   CHECK(min_clearance(s, *r.plan) >= 0.2);
-  bool passes_left = false;
-  for (const auto& d : r.plan->decisions) {
-    if (d.obstacle == 1)
-      passes_left = d.lateral == itp::planner::LateralSide::kLeft;
-  }
-  CHECK(passes_left);
+  CHECK(decision_for(*r.plan, 1).lateral == itp::planner::LateralSide::kLeft);
 }
 
 TEST_CASE("configuration: compact planner follows a slow leader") {

@@ -43,11 +43,7 @@ TEST_CASE("static obstacle in lane: passes with clearance and returns to the lan
   REQUIRE(r.status == itp::PlanStatus::kOk);
   check_limits(s, *r.plan);
   CHECK(min_clearance(s, *r.plan) >= 0.2);
-  bool passes_left = false;
-  for (const auto& d : r.plan->decisions) {
-    if (d.obstacle == 1) passes_left = d.lateral == LateralSide::kLeft;
-  }
-  CHECK(passes_left);
+  CHECK(decision_for(*r.plan, 1).lateral == LateralSide::kLeft);
 }
 
 TEST_CASE("slow leader with no room to pass: follows at a safe gap") {
@@ -58,11 +54,7 @@ TEST_CASE("slow leader with no room to pass: follows at a safe gap") {
   REQUIRE(r.status == itp::PlanStatus::kOk);
   check_limits(s, *r.plan);
   CHECK(min_clearance(s, *r.plan) >= 4.0);
-  bool follows = false;
-  for (const auto& d : r.plan->decisions) {
-    if (d.obstacle == 7) follows = d.longitudinal == itp::speed::Longitudinal::kFollow;
-  }
-  CHECK(follows);
+  CHECK(decision_for(*r.plan, 7).longitudinal == itp::speed::Longitudinal::kFollow);
 }
 
 TEST_CASE("every lane blocked: fallback that stops before the obstacle within the deceleration limit") {

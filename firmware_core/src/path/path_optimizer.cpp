@@ -37,7 +37,7 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
   // H and A as the last build's (same h, reaches and weights): kept, only g
   // and the bounds are written again (the assembly was a quarter of a solve).
   if (same_matrices) {
-    for (int i = 0; i < Cfg::kPathVariables; ++i) {  // 63
+    for (int i = 0; i < Cfg::kPathVariables; ++i) {  // Cfg::kPathVariables
       problem_.g[i] = 0;
       problem_.lb[i] = -inf;
       problem_.ub[i] = inf;
@@ -177,7 +177,7 @@ void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& de
   out.s0 = in.s0;
   out.h = h;
   if (qp::is_usable(st)) {
-    for (int i = 0; i < Cfg::kPathVariables; ++i) {  // 63
+    for (int i = 0; i < Cfg::kPathVariables; ++i) {  // Cfg::kPathVariables
       out.knots[static_cast<std::size_t>(i)] = result_.x[i];
     }
     spline::block_coefficients(h, out.knots.data(), Cfg::kPathBlocks, out.coefficients.data());

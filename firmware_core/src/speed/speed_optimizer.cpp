@@ -38,7 +38,7 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
   // H and A as the last build's (same h and weights): kept, only g and the
   // bounds are written again (every bound is, below).
   if (same_matrices) {
-    for (int i = 0; i < Cfg::kSpeedVariables; ++i) {  // 45
+    for (int i = 0; i < Cfg::kSpeedVariables; ++i) {  // Cfg::kSpeedVariables
       problem_.g[i] = 0;
     }
   } else {
@@ -135,7 +135,7 @@ void BasicSpeedOptimizer<Cfg>::solve(const SpeedInput& in, const SpeedBounds& bo
   out.iterations = result_.iterations;
   out.h = h;
   if (qp::is_usable(st)) {
-    for (int i = 0; i < Cfg::kSpeedVariables; ++i) {  // 45
+    for (int i = 0; i < Cfg::kSpeedVariables; ++i) {  // Cfg::kSpeedVariables
       out.knots[static_cast<std::size_t>(i)] = result_.x[i];
     }
     spline::block_coefficients(h, out.knots.data(), Cfg::kSpeedBlocks, out.coefficients.data());

@@ -39,7 +39,7 @@ class BasicDecisionStage {
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) {
     evaluator_.set_observer(observer);
   }
-  DecisionStatus run(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes,
+  DecisionStatus run(const RoadSl& road, std::span<const SlBox> boxes,
                      const ConvexSpaceParams& params, const CoarseInput& input,
                      const DecisionWeights& weights);
 

@@ -58,7 +58,6 @@ class BasicPlanner {
   using QpObserver = qp::BasicPlannerQpObserver<Cfg>;
   using ReferenceLine = geometry::BasicReferenceLine<Cfg>;
   using DecisionStage = decision::BasicDecisionStage<Cfg>;
-  using ConvexSpace = decision::BasicConvexSpace<Cfg>;
   using Decision = decision::BasicDecision<Cfg>;
   using CoarseInput = decision::BasicCoarseInput<Cfg>;
   using CurvatureProfile = decision::BasicCurvatureProfile<Cfg>;
@@ -72,8 +71,6 @@ class BasicPlanner {
   using StGraph = speed::BasicStGraph<Cfg>;
   using DynamicTrack = speed::BasicDynamicTrack<Cfg>;
   using CoarseResult = decision::BasicCoarseResult<Cfg>;
-  using LateralProfile = decision::BasicLateralProfile<Cfg>;
-  using Boundary = scene::BasicBoundary<Cfg>;
   using DynamicObstacle = scene::BasicDynamicObstacle<Cfg>;
   using SpeedInput = speed::BasicSpeedInput<Cfg>;
   using StDecision = speed::BasicStDecision<Cfg>;
