@@ -3,7 +3,10 @@
 SHELL := /bin/bash
 .DEFAULT_GOAL := help
 
+# libstdc++-arm-none-eabi-newlib: the Cortex-M7 build's C++ headers (<array>, ...);
+# gcc-arm-none-eabi alone is C only.
 DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-none-eabi \
+                   libstdc++-arm-none-eabi-newlib \
                    qemu-system-arm libeigen3-dev doctest-dev nlohmann-json3-dev \
                    libcli11-dev libfmt-dev libbenchmark-dev
 FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
