@@ -9,7 +9,7 @@ namespace hil::sim {
 namespace {
 
 constexpr double kBehind = 12.0;              // [m] of reference line kept behind the ego
-constexpr double kAhead = itp::DefaultConfig::kPathLength + 40.0;  // [m] kept ahead
+constexpr double kAhead = itp::DefaultConfig::kMaxPathLength + 20.0;  // [m] kept ahead
 constexpr double kPredictionStep = 0.1;       // [s]
 constexpr double kPredictionSpan = itp::DefaultConfig::kSpeedHorizon + 0.5;  // [s]
 constexpr double kRelevantRange = 160.0;      // [m] obstacles farther from the ego are left out
