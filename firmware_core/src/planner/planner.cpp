@@ -27,6 +27,9 @@ constexpr Scalar kCrossingHeadingLow = Scalar(0.7853981633974483);   // [rad]
 constexpr Scalar kCrossingHeadingHigh = Scalar(2.356194490192345);   // [rad]
 constexpr Scalar kCrossingMinSpeed = Scalar(0.5);                    // [m/s]
 constexpr Scalar kEverywhere = Scalar(1e9);                          // [m] an s-range without bounds
+// A car alongside in another lane at least this close to the ego's speed
+// (or faster) is treated as coming from behind: its lane ahead is its own.
+constexpr Scalar kAlongsideSpeedSlack = Scalar(1);                   // [m/s]
 
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
@@ -115,6 +118,8 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
   front_ = ego.geometry.length - rear_;
   const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{ego.state.x, ego.state.y});
   s_start_ = f.s;
+  ego_l_ = f.l;
+  ego_v_ = ego.state.v;
   // The SL horizon covers where the speed horizon can take the ego, so that
   // no trajectory sample runs past the planned path (and past obstacles the
   // convex space never saw). It may reach beyond the end of the map (the
@@ -181,11 +186,18 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
         seen = true;
         const Scalar rel = geometry::relative_heading(p.heading, reference_.evaluate(s_mid).heading);
         const bool oncoming = std::fabs(rel) > kOncomingHeading;
-        const bool from_behind = tr.box[u].s_max < s_start_;
+        const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
+        // Approaching from behind, or alongside and not slower, in another
+        // lane: the ego must not move in ahead of it (it would be in its way).
+        // A follower in the ego's own lane is its own business.
+        const bool behind = tr.box[u].s_max < s_start_;
+        const bool alongside = tr.box[u].s_min < s_start_ + front_ &&
+                               p.v * std::cos(rel) >= ego_v_ - kAlongsideSpeedSlack;
+        const bool other_lane = std::fabs(l_mid - ego_l_) > Scalar(0.5) * road_.lane_width;
+        const bool from_behind = (behind || alongside) && other_lane;
         tr.crossing = std::fabs(rel) > kCrossingHeadingLow && std::fabs(rel) < kCrossingHeadingHigh &&
                       std::fabs(p.v) >= kCrossingMinSpeed;
         tr.sweep_occupied = !tr.crossing && (oncoming || from_behind);
-        const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
       if (on_road) {
@@ -634,10 +646,12 @@ bool BasicPlanner<Cfg>::known_infeasible(std::uint64_t corridor) const {
 }
 
 // The track of the nearest moving obstacle whose SL box overlaps [s_lo, s_hi]
-// in s and that is not yet left out; -1: none.
+// in s and that is not yet left out; -1: none. `sweeps`: also one whose
+// whole sweep is occupied (oncoming, or coming from behind in another lane):
+// the ST graph cannot make the ego wait for those in their lane.
 template <class Cfg>
 int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo,
-                                       Scalar s_hi) const {
+                                       Scalar s_hi, bool sweeps) const {
   int found = -1;
   Scalar nearest = Scalar(0);
   for (std::size_t i = n_static; i < boxes_.size(); ++i) {  // <= kMaxDynamicObstacles
@@ -646,7 +660,8 @@ int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, S
       continue;
     }
     for (int j = 0; j < track_count_; ++j) {  // <= kMaxDynamicObstacles
-      if (tracks_[static_cast<std::size_t>(j)].id == b.obstacle_id && !skip[j]) {
+      const DynamicTrack& tr = tracks_[static_cast<std::size_t>(j)];
+      if (tr.id == b.obstacle_id && !skip[j] && (sweeps || !tr.sweep_occupied)) {
         found = j;
         nearest = b.s_min;
       }
@@ -712,16 +727,17 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
     int drop = -1;
     why = FallbackReason::kNoDecision;
     if (ds == decision::DecisionStatus::kNoDecision || decision_.best() < 0) {
-      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere);
+      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere, true);
       if (drop < 0) {
         return FallbackReason::kNoDecision;
       }
     } else if (ds == decision::DecisionStatus::kBlocked) {
       // The best corridor ends where the next slice has no zone it links to:
       // a moving obstacle in that slice is left to the ST graph; none there
-      // means static obstacles block the road (a real stop).
+      // means the ego waits (for traffic in its sweep) or static obstacles
+      // block the road (a real stop).
       const Decision& best = decision_.decisions().kept[static_cast<std::size_t>(decision_.best())];
-      drop = nearest_dynamic(n_static, skip, best.reach, blocking_slice_end(best.reach));
+      drop = nearest_dynamic(n_static, skip, best.reach, blocking_slice_end(best.reach), false);
     }
     if (drop < 0) {
       t0 = ticks_.ticks();
@@ -756,7 +772,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
       if (chosen_ >= 0) {
         return FallbackReason::kNone;
       }
-      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere);
+      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere, true);
       if (drop < 0 || path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
         return FallbackReason::kPathQpFailed;
       }
@@ -765,6 +781,25 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
     skip[drop] = true;
   }
   return FallbackReason::kPathQpFailed;
+}
+
+// ST graph and speed QP along path_: with the braking the bounds need
+// (bounds_.a_min), then, if that fails, with the vehicle's limit.
+template <class Cfg>
+void BasicPlanner<Cfg>::plan_speed(const StParams& stp, const StSamples& s_guess,
+                                   const StSamples& v_guess, SpeedInput& si, Plan& out) {
+  st_.build(path_, std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
+            stp, s_guess, v_guess, bounds_);
+  si.a_min = bounds_.a_min;
+  speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+  ++out.qp_solves;
+  out.qp_iterations += speed_.iterations;
+  if (!qp::is_usable(speed_.status) && bounds_.a_min > limits_.a_min) {
+    si.a_min = limits_.a_min;
+    speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+    ++out.qp_solves;
+    out.qp_iterations += speed_.iterations;
+  }
 }
 
 template <class Cfg>
@@ -778,6 +813,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
   stp.rear = rear_;
   stp.half_width = Scalar(0.5) * scene.ego.geometry.width;
   stp.limits = limits_;
+  stp.comfort_decel = settings_.comfort_decel;
   stp.kappa_ref = &kappa_;
   stp.stop_s = stop_before(kEverywhere);
   stp.path_end = start.s + length_;
@@ -854,11 +890,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     for (int b = 0; b < Cfg::kPathBlocks; ++b) {  // kPathBlocks: l(s) = l0 in every block
       path_.coefficients[static_cast<std::size_t>(6 * b)] = start.l;
     }
-    st_.build(path_, std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
-              stp, s_guess, v_guess, bounds_);
-    speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
-    ++out.qp_solves;
-    out.qp_iterations += speed_.iterations;
+    plan_speed(stp, s_guess, v_guess, si, out);
     if (qp::is_usable(speed_.status)) {
       for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
         const auto u = static_cast<std::size_t>(k);
@@ -881,28 +913,23 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     }
     const Decision& chosen = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
     blocked_ = !chosen.reaches_end;
+    // Blocked by static obstacles alone (a stop, reported as a fallback), or
+    // waiting for moving traffic that will clear (an ok plan).
+    blocked_by_statics_ =
+        blocked_ && decision::widest_free_gap(road_, boxes_.span().first(n_static), chosen.reach,
+                                              blocking_slice_end(chosen.reach)) <
+                        scene.ego.geometry.width;
 
     // 1.3 ST graph and speed QP along the path.
     std::uint64_t t0 = ticks_.ticks();
     stp.stop_s = stop_before(blocked_ ? chosen.reach : kEverywhere);
-    st_.build(path_,
-              std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
-              stp, s_guess, v_guess, bounds_);
-    speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
-    ++out.qp_solves;
-    out.qp_iterations += speed_.iterations;
+    plan_speed(stp, s_guess, v_guess, si, out);
     if (!qp::is_usable(speed_.status)) {
       // Retry once conservatively: yield instead of overtaking, and the
       // curvature speed limit over every reachable position.
       stp.conservative = true;
-      st_.build(
-          path_,
-          std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
-          stp, s_guess, v_guess, bounds_);
-      speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+      plan_speed(stp, s_guess, v_guess, si, out);
       stp.conservative = false;
-      ++out.qp_solves;
-      out.qp_iterations += speed_.iterations;
     }
     out.timing.speed += ticks_.ticks() - t0;
     if (!qp::is_usable(speed_.status)) {
@@ -959,7 +986,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     return false;
   }
   record_decisions(out);
-  if (blocked_) {
+  if (blocked_by_statics_) {
     // No corridor passes the static obstacles: the optimised trajectory is a
     // stop before them, reported as a fallback.
     out.status = PlanStatus::kFallback;
