@@ -252,6 +252,10 @@ int BasicPlanner<Cfg>::place_dynamic(const std::array<Scalar, Cfg::kStSamples>& 
     if (k < 0 || tr.box[static_cast<std::size_t>(k)].s_max + rear_ < s_start_) {
       continue;  // never present, or only behind the ego
     }
+    if (meet < 0 && !tr.sweep_occupied &&
+        tr.box[static_cast<std::size_t>(k)].s_max + rear_ < s_start_ + s_guess[static_cast<std::size_t>(k)]) {
+      continue;  // never met, and behind the ego at the end: the ego passed it (the ST graph still sees it)
+    }
     decision::SlBox b = tr.box[static_cast<std::size_t>(k)];
     if (tr.sweep_occupied) {
       // An oncoming obstacle sweeps its way towards and past the ego: the ego
@@ -343,6 +347,31 @@ void BasicPlanner<Cfg>::update_kappa_bound(const std::array<Scalar, Cfg::kStSamp
   }
 }
 
+// The path's curvature bound when the expected-speed one cannot be met: what
+// the ego can still take at the slowest speed it can have at each s,
+// braking at its limit (after the speed spline's 0.3 s onset):
+// min(κ_max, a_lat_max / v_min(s)²). Near the ego that is the expected-speed
+// bound (it cannot slow down at once), so a path never asks for a swerve the
+// speed stage cannot make within the lateral-acceleration limit.
+template <class Cfg>
+void BasicPlanner<Cfg>::update_kappa_reach(Scalar v0) {
+  constexpr Scalar kOnset = Scalar(0.3);  // [s] as the ST graph's braking model
+  kappa_reach_.s0 = kappa_.s0;
+  kappa_reach_.ds = kappa_.ds;
+  const Scalar v = max_of(v0, Scalar(0));
+  const Scalar brake = -limits_.a_min;  // > 0
+  for (int i = 0; i < Cfg::kCurvatureSamples; ++i) {  // Cfg::kCurvatureSamples
+    const Scalar s = kappa_.ds * static_cast<Scalar>(i);
+    const Scalar braked = max_of(s - v * kOnset, Scalar(0));
+    const Scalar v_min = std::sqrt(max_of(v * v - Scalar(2) * brake * braked, Scalar(0)));
+    const Scalar kr = std::fabs(kappa_.kappa[static_cast<std::size_t>(i)]);
+    Scalar kb = v_min > Scalar(1) ? min_of(limits_.kappa_max, limits_.a_lat_max / (v_min * v_min))
+                                  : limits_.kappa_max;
+    kb = max_of(kb, min_of(kr + Scalar(0.002), limits_.kappa_max));
+    kappa_reach_.kappa[static_cast<std::size_t>(i)] = kb;
+  }
+}
+
 // Kept decisions with a usable coarse QP, by decision cost (eq. 4) plus the
 // hysteresis bonus for keeping last cycle's sides; ties keep the geometric rank.
 template <class Cfg>
@@ -380,30 +409,38 @@ int BasicPlanner<Cfg>::rank_decisions(std::array<int, Cfg::kKeptDecisions>& orde
 
 // Frame-to-frame consistency: a decision that passes every obstacle of the
 // previous cycle's plan on the same side as that plan did earns a bonus, so
-// that near-equal alternatives do not flip between cycles.
+// that near-equal alternatives do not flip between cycles. Passing a moving
+// obstacle on the other side than the last plan costs far more: the path
+// would swing across its lane within a second or two (lateral acceleration
+// beyond any limit when tracked), so any decision that keeps those sides is
+// tried first.
 template <class Cfg>
 Scalar BasicPlanner<Cfg>::hysteresis_bonus(int index) const {
-  if (!have_previous_ || previous_.decisions.empty()) {
+  if (!have_previous_ || previous_.decisions.empty() || now_ - previous_time_ > kPreviousPlanMaxAge) {
     return 0;
   }
   const Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
   int compared = 0;
+  bool static_flip = false;
   for (const decision::SlBox& b : boxes_) {  // <= kMaxObstacles
     for (const ObstacleDecision& od : previous_.decisions) {  // <= kMaxObstacles
-      if (od.obstacle != b.obstacle_id || od.lateral == LateralSide::kNone) {
+      if (od.obstacle != b.obstacle_id || od.dynamic != b.dynamic || od.lateral == LateralSide::kNone) {
         continue;
       }
       const decision::Side side = decision::side_of(decision_.space(), d, b);
       const LateralSide now = side == decision::Side::kLeft ? LateralSide::kLeft
                               : side == decision::Side::kRight ? LateralSide::kRight
                                                                : LateralSide::kNone;
-      if (now != od.lateral) {
-        return 0;
+      if (now != od.lateral && now != LateralSide::kNone) {
+        if (b.dynamic) {
+          return -settings_.moving_side_flip_cost;
+        }
+        static_flip = true;
       }
       ++compared;
     }
   }
-  return compared > 0 ? settings_.hysteresis : Scalar(0);
+  return compared > 0 && !static_flip ? settings_.hysteresis : Scalar(0);
 }
 
 // --- Output ----------------------------------------------------------------
@@ -753,7 +790,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
         for (int relax = 0; relax < 2 && chosen_ < 0 && path_solves_ < Cfg::kMaxPathSolvesPerCycle;
              ++relax) {  // expected-speed bound, then steering limit; within the cycle's budget
           ++path_solves_;
-          pi.kappa_bound = relax == 0 ? &kappa_bound_ : nullptr;
+          pi.kappa_bound = relax == 0 ? &kappa_bound_ : &kappa_reach_;
           path_opt_.solve(decision_.space(), d, pi, settings_.path_weights, path_);
           ++out.qp_solves;
           out.qp_iterations += path_.iterations;
@@ -817,6 +854,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
   stp.kappa_ref = &kappa_;
   stp.stop_s = stop_before(kEverywhere);
   stp.path_end = start.s + length_;
+  update_kappa_reach(start.v);
   speed::reference_profile(stp, Cfg::kSpeedHorizon, s_guess, v_guess);  // step 0
 
   decision::ConvexSpaceParams cp;

@@ -33,6 +33,7 @@ struct PlannerSettings {
   Scalar replan_longitudinal = Scalar(1.5);  // [m]
   Scalar replan_speed = Scalar(1.0);     // [m/s]
   Scalar hysteresis = Scalar(0.3);       // decision-cost bonus for keeping last cycle's sides
+  Scalar moving_side_flip_cost = Scalar(100);  // decision cost of passing a moving obstacle on the other side than last cycle
   Scalar blocked_lane_weight = Scalar(1.0);  // [1/m] decision-cost per metre a blocked stop is off the target lane
   decision::DecisionWeights decision_weights{};
   path::PathWeights path_weights{};
@@ -148,6 +149,7 @@ class BasicPlanner {
   int rank_decisions(std::array<int, Cfg::kKeptDecisions>& order) const;
   Scalar hysteresis_bonus(int index) const;
   void update_kappa_bound(const StSamples& s_guess, const StSamples& v_guess);
+  void update_kappa_reach(Scalar v0);
 
   TickSource ticks_{};
   PlannerSettings settings_{};
@@ -157,6 +159,7 @@ class BasicPlanner {
   ReferenceLine reference_{};
   CurvatureProfile kappa_{};
   CurvatureProfile kappa_bound_{};  // |κ| the path may have at the expected speed
+  CurvatureProfile kappa_reach_{};  // ... at the slowest speed braking can reach there
   RoadSl road_{};
   decision::VehicleLimits limits_{};
   geometry::Point2 origin_{};  // [m] first reference point (s = 0) of the last prepared cycle
