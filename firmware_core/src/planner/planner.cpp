@@ -26,6 +26,9 @@ constexpr Scalar kOncomingHeading =
 constexpr Scalar kCrossingHeadingLow = Scalar(0.7853981633974483);   // [rad]
 constexpr Scalar kCrossingHeadingHigh = Scalar(2.356194490192345);   // [rad]
 constexpr Scalar kCrossingMinSpeed = Scalar(0.5);                    // [m/s]
+// A crossing mover (a pedestrian, a cyclist) walks into the path: the ego
+// does not pass before it unless it is this much further away sideways.
+constexpr Scalar kCrossingMargin = Scalar(1.0);                      // [m]
 constexpr Scalar kEverywhere = Scalar(1e9);                          // [m] an s-range without bounds
 // A car alongside in another lane at least this close to the ego's speed
 // (or faster) is treated as coming from behind: its lane ahead is its own.
@@ -200,7 +203,10 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
         tr.sweep_occupied = !tr.crossing && (oncoming || from_behind);
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
-      if (on_road) {
+      if (tr.crossing) {
+        tr.box[u].l_min -= kCrossingMargin;
+        tr.box[u].l_max += kCrossingMargin;
+      } else if (on_road) {
         keep_on_road(s_mid, tr.box[u]);
       }
     }
@@ -958,7 +964,9 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
                                               blocking_slice_end(chosen.reach)) <
                         scene.ego.geometry.width;
 
-    // 1.3 ST graph and speed QP along the path.
+    // 1.3 ST graph and speed QP along the path. A stop before static
+    // obstacles is a fallback: it brakes only, never speeds up on the way.
+    si.a_max = blocked_by_statics_ ? Scalar(0) : limits_.a_max;
     std::uint64_t t0 = ticks_.ticks();
     stp.stop_s = stop_before(blocked_ ? chosen.reach : kEverywhere);
     plan_speed(stp, s_guess, v_guess, si, out);

@@ -187,9 +187,11 @@ void classify(BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
     d.decision = d.speed[u1] > v_guess[u1] ? Longitudinal::kIgnore : Longitudinal::kOvertake;
     return;
   }
+  // A leader moving along the path is followed at a safe gap for as long as
+  // it is on the path (also when the path leaves it later: a yield would
+  // tail it 2 m behind until then).
   const bool moving_along = d.speed[u1] > kMovingAlong;
-  const bool lasts = d.k2 == Cfg::kStSamples - 1;
-  if (moving_along && lasts && d.s_lo[u1] > 0) {
+  if (moving_along && d.s_lo[u1] > 0) {
     d.decision = Longitudinal::kFollow;
     return;
   }
