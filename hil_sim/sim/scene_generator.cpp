@@ -117,6 +117,8 @@ struct DynCandidate {
   std::string kind;
   double length = 4.5, width = 1.8;
   double t_appear = 0.0;  // [s] multiple of sample_dt
+  double t_settled = 0.0;  // [s] a lane change is over by then
+  bool on_map = true;      // false: it would act beyond the end of the road
   std::function<FrenetState(double)> motion;
 };
 
@@ -308,6 +310,15 @@ DynCandidate make_adjacent_car(const Frame& f, Rng& r) {
   return c;
 }
 
+// The ego speeding up from v0 to the speed limit at a comfortable 2 m/s²: the
+// farthest a careful ego may be by t, for the rules of the cut-ins.
+double fastest_ego_speed(const Frame& f, double t) { return std::min(f.v_limit, f.v0 + 2.0 * t); }
+double fastest_ego_travel(const Frame& f, double t) {
+  const double t_up = std::max(0.0, (f.v_limit - f.v0) / 2.0);
+  const double ta = std::min(t, t_up);
+  return f.v0 * ta + ta * ta + f.v_limit * std::max(0.0, t - t_up);
+}
+
 DynCandidate make_cut_in(const Frame& f, Rng& r) {
   DynCandidate c;
   c.kind = std::string(archetype::kCutIn);
@@ -317,12 +328,14 @@ DynCandidate make_cut_in(const Frame& f, Rng& r) {
   const double v = std::max(2.0, f.v0 * r.uniform(0.5, 1.0));
   const double t_start = r.uniform(0.5, 3.0);
   const double dur = r.uniform(2.5, 4.0);
-  // Ahead enough that, when it is half-way in, the ego can still stop comfortably behind it.
+  c.t_settled = t_start + dur;
+  // Ahead enough that, when it is half-way in, the ego can still stop
+  // comfortably behind it, also an ego that sped up to the limit meanwhile.
   const double t_mid = t_start + 0.5 * dur;
-  const double closing = f.v0 - v;
+  const double closing = fastest_ego_speed(f, t_mid) - v;
   const double need = std::max(0.0, closing * closing / (2.0 * f.cfg->max_brake)) + 8.0;
-  const double s0 = f.ego_front + std::max(0.0, closing * t_mid) + need + 0.5 * c.length +
-                    r.uniform(0.0, 30.0);
+  const double s0 = f.ego_front + std::max(0.0, fastest_ego_travel(f, t_mid) - v * t_mid) + need +
+                    0.5 * c.length + r.uniform(0.0, 30.0);
   const double l_from = f.lane_centre(lane);
   c.motion = [s0, v, l_from, t_start, dur](double t) {
     const double u = (t - t_start) / dur;
@@ -346,23 +359,85 @@ DynCandidate make_oncoming(const Frame& f, Rng& r) {
   return c;
 }
 
-DynCandidate make_pedestrian(const Frame& f, Rng& r) {
+// A vulnerable road user crossing the road at an angle (deviation from
+// perpendicular within +-max_dev), stepping on 1 m off the road.
+DynCandidate make_crossing(const Frame& f, Rng& r, std::string_view kind, double length, double width,
+                           double v_lo, double v_hi, double max_dev, double min_ahead) {
   DynCandidate c;
-  c.kind = std::string(archetype::kPedestrian);
-  c.length = 1.0;
-  c.width = 1.0;
+  c.kind = std::string(kind);
+  c.length = length;
+  c.width = width;
   const double stop = f.v0 * f.v0 / (2.0 * f.cfg->max_brake) + 10.0;
   const double offset = r.uniform(0.0, 60.0);
-  const double v = r.uniform(1.0, 1.5);
+  const double v = r.uniform(v_lo, v_hi);
+  const double dev = r.uniform(-max_dev, max_dev);
   const bool from_right = r.chance(0.6);
   const double l0 = from_right ? f.right_b - 1.0 : f.left_b + 1.0;
-  const double dl = from_right ? v : -v;
+  const double dl = (from_right ? v : -v) * std::cos(dev);
+  const double ds = v * std::sin(dev);
   c.t_appear = std::round(r.uniform(0.0, 3.0) / f.cfg->sample_dt) * f.cfg->sample_dt;
   const double t0 = c.t_appear;
-  // The distances count from where the ego (at v0) is when the pedestrian
-  // appears: one that steps out closer than a stop is not a planning problem.
-  const double s = f.ego_front + f.v0 * t0 + std::max(30.0, stop) + offset;
-  c.motion = [s, l0, dl, t0](double t) { return FrenetState{s, l0 + dl * (t - t0), 0.0, dl}; };
+  // The distances count from where the ego (at v0) is when it appears: one
+  // that steps out closer than a stop is not a planning problem.
+  const double s = f.ego_front + f.v0 * t0 + std::max(min_ahead, stop) + offset;
+  c.on_map = s <= f.curve->length() - 5.0;
+  c.motion = [s, l0, ds, dl, t0](double t) {
+    return FrenetState{s + ds * (t - t0), l0 + dl * (t - t0), ds, dl};
+  };
+  return c;
+}
+
+DynCandidate make_pedestrian(const Frame& f, Rng& r) {
+  return make_crossing(f, r, archetype::kPedestrian, 1.0, 1.0, 1.0, 1.8, 20.0 * kPi / 180.0, 30.0);
+}
+
+DynCandidate make_cyclist(const Frame& f, Rng& r) {
+  return make_crossing(f, r, archetype::kCyclist, 1.8, 0.7, 3.0, 5.0, 30.0 * kPi / 180.0, 40.0);
+}
+
+// Faster traffic in the next lane coming up from behind and passing the ego.
+DynCandidate make_overtaker(const Frame& f, Rng& r) {
+  DynCandidate c;
+  c.kind = std::string(archetype::kOvertaker);
+  c.length = r.uniform(4.2, 5.0);
+  c.width = r.uniform(1.7, 1.95);
+  const int lane = random_adjacent_lane(f, r);
+  const double v = std::min(1.3 * f.v_limit, f.v0 + r.uniform(3.0, 7.0));
+  const double s0 = -r.uniform(15.0, 50.0);
+  const double l = f.lane_centre(lane) + r.uniform(-0.2, 0.2);
+  c.motion = [s0, v, l](double t) { return FrenetState{s0 + v * t, l, v, 0.0}; };
+  return c;
+}
+
+// A cut-in that then brakes to a stop (2-6 m/s², more where needed to stop
+// within the run, at most 7; from 0-2 s after it is in the lane). When the
+// braking starts, an ego that sped up to the limit (not following it) would
+// still be 3 m beyond RSS's distance (0.5 s, 5 m/s² against its braking).
+DynCandidate make_cut_in_brake(const Frame& f, Rng& r) {
+  DynCandidate c = make_cut_in(f, r);
+  c.kind = std::string(archetype::kCutInBrake);
+  const FrenetState start = c.motion(0.0);
+  const double v = start.ds;
+  const double t_in = c.t_settled + r.uniform(0.0, 2.0);
+  // Stopped before the run ends where 7 m/s² at most allows it.
+  const double b = std::min(7.0, std::max(r.uniform(2.0, 6.0), v / std::max(0.5, f.cfg->duration - 0.5 - t_in)));
+  const double t_stop = v / b;
+  const double s_b = c.motion(t_in).s;
+  const double v_e = fastest_ego_speed(f, t_in);
+  const double need = v_e * 0.5 + std::max(0.0, v_e * v_e / (2.0 * 5.0) - v * v / (2.0 * b)) + 3.0;
+  const double gap = s_b - 0.5 * c.length - (f.ego_front + fastest_ego_travel(f, t_in));
+  const double shift = std::max(0.0, need - gap);
+  const auto lateral = c.motion;
+  c.motion = [lateral, shift, t_in, b, t_stop, v](double t) {
+    FrenetState fs = lateral(t);
+    fs.s += shift;
+    if (t > t_in) {
+      const double tau = std::min(t - t_in, t_stop);
+      fs.s = lateral(t_in).s + shift + v * tau - 0.5 * b * tau * tau;
+      fs.ds = std::max(0.0, v - b * (t - t_in));
+    }
+    return fs;
+  };
   return c;
 }
 
@@ -371,9 +446,10 @@ struct Weighted {
   double p;
 };
 // Fixed archetype probabilities (docs/simulation.md).
-constexpr Weighted kDynamicMix[] = {{archetype::kSlowLeader, 0.25}, {archetype::kAdjacentCar, 0.25},
-                                    {archetype::kCutIn, 0.20},      {archetype::kOncoming, 0.15},
-                                    {archetype::kPedestrian, 0.15}};
+constexpr Weighted kDynamicMix[] = {
+    {archetype::kSlowLeader, 0.18}, {archetype::kAdjacentCar, 0.14}, {archetype::kCutIn, 0.12},
+    {archetype::kCutInBrake, 0.10}, {archetype::kOncoming, 0.12},    {archetype::kPedestrian, 0.12},
+    {archetype::kCyclist, 0.08},    {archetype::kOvertaker, 0.14}};
 constexpr double kParkedCarProbability = 0.6;  // else debris / cone
 
 std::string_view pick_dynamic(Rng& r) {
@@ -390,6 +466,9 @@ DynCandidate make_dynamic(std::string_view kind, const Frame& f, Rng& r) {
   if (kind == archetype::kCutIn) return make_cut_in(f, r);
   if (kind == archetype::kOncoming) return make_oncoming(f, r);
   if (kind == archetype::kPedestrian) return make_pedestrian(f, r);
+  if (kind == archetype::kCyclist) return make_cyclist(f, r);
+  if (kind == archetype::kOvertaker) return make_overtaker(f, r);
+  if (kind == archetype::kCutInBrake) return make_cut_in_brake(f, r);
   return make_slow_leader(f, r);
 }
 
@@ -457,7 +536,15 @@ World generate_scene(std::uint64_t seed, int index, const GeneratorConfig& cfg) 
     const double k = r.uniform(1.0 / r_max, 1.0 / r_min);
     return r.chance(0.5) ? k : -k;
   };
+  f.v0 = std::round(f.v_limit * r.uniform(0.6, 1.0) * 10.0) / 10.0;
   double length = std::max(r.uniform(150.0, 250.0), f.v_limit * cfg.duration + 100.0);
+  // Sometimes the road ends ahead (a dead end, the end of the map): far
+  // enough for a comfortable stop (3 m/s²) with 25 m to spare.
+  const bool map_end = r.chance(cfg.map_end_probability);
+  if (map_end) {
+    const double stop = 3.8 + f.v0 * f.v0 / (2.0 * cfg.max_brake) + 25.0;
+    length = r.uniform(std::max(80.0, stop), std::max(180.0, stop + 20.0));
+  }
   length = std::ceil(length / cfg.ref_spacing) * cfg.ref_spacing;
 
   const int shape = r.integer(0, 2);  // 0 straight, 1 arc, 2 S-curve
@@ -490,6 +577,9 @@ World generate_scene(std::uint64_t seed, int index, const GeneratorConfig& cfg) 
   w.tags.push_back(shape == 0 ? "road:straight" : shape == 1 ? "road:arc" : "road:s-curve");
   w.tags.push_back(fmt::format("lanes:{}", f.lanes));
   w.tags.push_back(f.ego_lane == 0 ? "ego_lane:rightmost" : "ego_lane:middle");
+  if (map_end) {
+    w.tags.push_back(std::string(archetype::kMapEnd));
+  }
 
   for (double s = 0.0; s <= length + 1e-9; s += cfg.ref_spacing) {
     const Point2 p = curve.point(s, 0.0);
@@ -502,7 +592,6 @@ World generate_scene(std::uint64_t seed, int index, const GeneratorConfig& cfg) 
   w.road.speed_limit = f.v_limit;
 
   // Ego: rear axle at s = 0 on the lane centre.
-  f.v0 = std::round(f.v_limit * r.uniform(0.6, 1.0) * 10.0) / 10.0;
   f.ego = Ego{0.0, 0.0, curve.heading(0.0), f.v0, 0.0, curve.kappa(0.0), 4.8, 1.9, 2.8};
   f.ego_front = f.ego.wheelbase + 0.5 * (f.ego.length - f.ego.wheelbase);
   w.ego = f.ego;
@@ -516,6 +605,7 @@ World generate_scene(std::uint64_t seed, int index, const GeneratorConfig& cfg) 
     for (int a = 0; a < attempts; ++a) {
       if (a > 0 && a % 20 == 0) kind = pick_dynamic(r);  // this archetype does not fit: another
       const DynCandidate cand = make_dynamic(kind, f, r);
+      if (!cand.on_map) continue;
       const DynamicObstacle d =
           realise(f, cand, 11 + static_cast<int>(w.dynamic_obstacles.size()));
       const bool ego_ok = sweep_clear(f, [&](double t) -> std::optional<OrientedBox> {

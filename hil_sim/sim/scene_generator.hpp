@@ -17,6 +17,7 @@ struct GeneratorConfig {
   double lane_width = 3.5;        // [m]
   double max_brake = 3.0;         // [m/s^2] comfortable stop used by the solvability rules
   double max_lat_acc = 2.5;       // [m/s^2] road radius >= v_limit^2 / this (and >= 50 m)
+  double map_end_probability = 0.12;  // the reference line (the road) ends ahead of the ego
   int min_static = 1, max_static = 10;
   int min_dynamic = 1, max_dynamic = 5;
 };
@@ -30,6 +31,10 @@ inline constexpr std::string_view kAdjacentCar = "adjacent_car";
 inline constexpr std::string_view kCutIn = "cut_in";
 inline constexpr std::string_view kOncoming = "oncoming";
 inline constexpr std::string_view kPedestrian = "pedestrian";
+inline constexpr std::string_view kCyclist = "cyclist";
+inline constexpr std::string_view kCutInBrake = "cut_in_brake";
+inline constexpr std::string_view kOvertaker = "overtaker";
+inline constexpr std::string_view kMapEnd = "map_end";  // scene tag: the road ends ahead
 }  // namespace archetype
 
 // Scene `index` of the suite with this seed; name "paper-NNNN". Pure function

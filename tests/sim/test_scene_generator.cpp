@@ -72,9 +72,17 @@ TEST_CASE("generator: 300 scenes inside the paper's envelope") {
     CHECK((std::abs(lanes - 2.0) < 1e-9 || std::abs(lanes - 3.0) < 1e-9));
     const double right = w.road.right_boundary.at(0);
     CHECK((std::abs(right + 1.75) < 1e-9 || (std::abs(right + 5.25) < 1e-9 && lanes > 2.5)));
-    // Reference line: >= 150 m, every 2 m, radius >= 50 m.
+    // Reference line: >= 150 m (a road that ends: room for a comfortable stop
+    // and 25 m more), every 2 m, radius >= 50 m.
     const auto sv = polyline_arc_lengths(w.reference_line);
-    CHECK(sv.back() >= 149.0);
+    const bool map_end = std::find(w.tags.begin(), w.tags.end(), "map_end") != w.tags.end();
+    if (map_end) {
+      CHECK(sv.back() >= 3.8 + w.ego.v * w.ego.v / 6.0 + 25.0 - 2.0);
+      CHECK(sv.back() >= 79.0);
+      ++kinds["map_end"];
+    } else {
+      CHECK(sv.back() >= 149.0);
+    }
     for (std::size_t i = 1; i < w.reference_line.size(); ++i) {
       CHECK(sv[i] - sv[i - 1] == doctest::Approx(2.0).epsilon(1e-3));
     }
@@ -99,7 +107,8 @@ TEST_CASE("generator: 300 scenes inside the paper's envelope") {
     for (const auto& o : w.static_obstacles) ++kinds[o.kind];
     shapes.insert(w.tags.front());
   }
-  for (const char* k : {"parked_car", "debris", "slow_leader", "adjacent_car", "cut_in", "oncoming", "pedestrian"}) {
+  for (const char* k : {"parked_car", "debris", "slow_leader", "adjacent_car", "cut_in", "oncoming", "pedestrian",
+                        "cyclist", "cut_in_brake", "overtaker", "map_end"}) {
     CAPTURE(k);
     CHECK(kinds[k] >= 10);
   }
@@ -174,19 +183,40 @@ TEST_CASE("generator: solvability rules hold, checked independently") {
     for (std::size_t i = 0; i < w.static_obstacles.size(); ++i)
       for (std::size_t k = i + 1; k < w.static_obstacles.size(); ++k)
         CHECK_FALSE(boxes_overlap(obstacle_box(w.static_obstacles[i]), obstacle_box(w.static_obstacles[k])));
-    // Pedestrians: a 1.0 m box, 1-1.5 m/s, crossing >= 30 m ahead of the ego's front when it appears.
+    // Crossing road users: pedestrians (1.0 m box, 1-1.8 m/s, >= 30 m ahead
+    // of the ego's front when they appear) and cyclists (1.8 x 0.7 m, 3-5 m/s,
+    // >= 40 m), both within 30 deg of perpendicular to the road, on the map.
     for (const auto& d : w.dynamic_obstacles) {
-      if (d.kind != "pedestrian") continue;
-      CHECK(d.length == 1.0);
-      CHECK(d.width == 1.0);
+      const bool ped = d.kind == "pedestrian";
+      if (!ped && d.kind != "cyclist") continue;
+      CHECK(d.length == (ped ? 1.0 : 1.8));
+      CHECK(d.width == (ped ? 1.0 : 0.7));
       const auto& first = d.trajectory.front();
-      CHECK(first.v >= 1.0);
-      CHECK(first.v <= 1.5);
+      CHECK(first.v >= (ped ? 1.0 : 3.0) - 1e-9);
+      CHECK(first.v <= (ped ? 1.8 : 5.0) + 1e-9);
       const PolylineProjection q = project_to_polyline(w.reference_line, first.x, first.y);
-      // Ahead of where the ego (at its initial speed) is when the pedestrian appears.
-      CHECK(q.s - (ego_front + w.ego.v * first.t) >= 30.0);
-      // It starts off the road and walks across it.
+      CHECK(std::abs(std::abs(std::remainder(first.heading - q.heading, 2 * std::numbers::pi)) - 0.5 * std::numbers::pi) <=
+            (ped ? 23.0 : 33.0) * std::numbers::pi / 180.0);  // + the bend's (1 - kappa l) on the angle
+      CHECK(q.s - (ego_front + w.ego.v * first.t) >= (ped ? 30.0 : 40.0));
+      CHECK(q.s <= sv.back());
+      // It starts off the road and moves across it.
       CHECK((q.l < w.road.right_boundary.at(q.s) || q.l > w.road.left_boundary.at(q.s)));
+    }
+    // Overtakers start behind the ego, faster than it; a cut-in that brakes
+    // ends standing.
+    for (const auto& d : w.dynamic_obstacles) {
+      if (d.kind == "overtaker") {
+        const PolylineProjection q = project_to_polyline(w.reference_line, d.trajectory.front().x, d.trajectory.front().y);
+        CHECK(q.s < 0.0);
+        CHECK(d.trajectory.front().v > w.ego.v);
+      }
+      if (d.kind == "cut_in_brake") {
+        CHECK(d.trajectory.front().v > 1.0);
+        CHECK(d.trajectory.back().v < 0.5 * d.trajectory.front().v);
+        double slowest = d.trajectory.front().v;
+        for (const auto& p : d.trajectory) slowest = std::min(slowest, p.v);
+        CHECK(d.trajectory.back().v <= slowest + 1e-9);  // it ends braking
+      }
     }
   }
 }
