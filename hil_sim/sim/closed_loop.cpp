@@ -223,6 +223,10 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
         sample.status = rec.status;
         if (rec.status == PlanStatus::kFallback) {
           rec.reason = itp::planner::to_string(plan->fallback);
+          if (plan->fallback == itp::planner::FallbackReason::kCollision && plan->collision_obstacle >= 0) {
+            // What the rejected plan met, and when (the trace's reason only).
+            rec.collision_with = fmt::format("{}@{:.1f}s", plan->collision_obstacle, plan->collision_time);
+          }
           problem = "fallback: " + rec.reason;
         } else if (rec.status == PlanStatus::kInvalidInput) {
           rec.reason = itp::scene::to_string(plan->invalid);
@@ -465,6 +469,7 @@ void write_trace(std::ofstream& out, const std::string& scene, const SceneRunRes
       j["path_deviation_t"] = c.path_deviation_t;
     }
     j["decisions"] = c.decisions;
+    if (!c.collision_with.empty()) j["collision_with"] = c.collision_with;
     j["clearance"] = c.clearance ? json(*c.clearance) : json(nullptr);
     if (k < r.trace.size()) {
       j["x"] = r.trace[k].pose.x;

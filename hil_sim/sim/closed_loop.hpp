@@ -52,6 +52,7 @@ struct CycleRecord {
   double path_deviation = -1.0;    // [m] this plan's path vs the previous plan's (< 0: none)
   double path_deviation_t = 0.0;   // [s] plan time of that largest deviation
   std::string decisions;           // per obstacle "id:lateral/longitudinal", e.g. "3:L/ignore 7:-/follow"
+  std::string collision_with;      // fallback: collision: "obstacle@plan time", e.g. "14@2.3s"
 };
 
 // A cycle worth a look (RunOptions::keep_snapshot): the first fallback /

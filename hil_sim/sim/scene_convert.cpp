@@ -8,7 +8,7 @@
 namespace hil::sim {
 namespace {
 
-constexpr double kBehind = 12.0;              // [m] of reference line kept behind the ego
+constexpr double kBehind = 40.0;              // [m] of reference line kept behind the ego (rear traffic)
 constexpr double kAhead = itp::DefaultConfig::kMaxPathLength + 20.0;  // [m] kept ahead
 constexpr double kPredictionStep = 0.1;       // [s]
 constexpr double kPredictionSpan = itp::DefaultConfig::kSpeedHorizon + 0.5;  // [s]

@@ -70,12 +70,11 @@ struct Interval {
 };
 
 // The l-intervals of the boxes overlapping [sa, sb) and [road_lo, road_hi],
-// sorted by their right edge; returns their count.
-template <class Cfg>
+// sorted by their left edge (at most blocked.size()); returns their count.
 int blocked_intervals(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
-                      Scalar road_hi, std::array<Interval, Cfg::kMaxObstacles>& blocked) {
+                      Scalar road_hi, std::span<Interval> blocked) {
   int n = 0;
-  for (std::size_t i = 0; i < boxes.size(); ++i) {  // <= kMaxObstacles
+  for (std::size_t i = 0; i < boxes.size() && static_cast<std::size_t>(n) < blocked.size(); ++i) {  // <= kMaxObstacles
     const SlBox& b = boxes[i];
     if (b.s_max > sa && b.s_min < sb && b.l_max > road_lo && b.l_min < road_hi) {
       blocked[static_cast<std::size_t>(n++)] = Interval{b.l_min, b.l_max, static_cast<std::int16_t>(i)};
@@ -98,7 +97,7 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
                      Scalar road_hi, const ConvexSpaceParams& params, std::int16_t slice_index,
                      BasicConvexSpace<Cfg>& out) {
   std::array<Interval, Cfg::kMaxObstacles> blocked{};
-  const int n = blocked_intervals<Cfg>(boxes, sa, sb, road_lo, road_hi, blocked);
+  const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
   Slice slice;
   slice.s_begin = sa;
   slice.s_end = sb;
@@ -196,7 +195,7 @@ Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxe
   const Scalar road_lo = road.right.max_over(sa, sb);
   const Scalar road_hi = road.left.min_over(sa, sb);
   std::array<Interval, Cfg::kMaxObstacles> blocked{};
-  const int n = blocked_intervals<Cfg>(boxes, sa, sb, road_lo, road_hi, blocked);
+  const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
   Scalar widest = 0;
   Scalar cursor = road_lo;
   for (int i = 0; i <= n; ++i) {  // n + 1 gaps

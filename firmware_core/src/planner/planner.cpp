@@ -16,6 +16,7 @@ namespace {
 
 constexpr Scalar kPreviousPlanMaxAge = Scalar(1);  // [s] older plans are not stitched
 constexpr int kMaxPathAttempts = 4;                // decisions tried by the path QP per iteration
+constexpr int kEvasiveAttempts = 2;                // ... of which this many with the evasive bound too
 constexpr Scalar kFallbackPathAge = Scalar(1);    // [s] a fallback brakes along the last ok plan this long
 constexpr Scalar kOncomingHeading =
     Scalar(1.5707963267948966);  // [rad] |heading - reference| beyond: oncoming
@@ -89,6 +90,7 @@ const char* to_string(FallbackReason reason) {
     case FallbackReason::kSpeedQpFailed: return "speed_qp_failed";
     case FallbackReason::kCollision: return "collision";
     case FallbackReason::kHorizonTooShort: return "horizon_too_short";
+    case FallbackReason::kEvasive: return "evasive";
   }
   return "unknown";
 }
@@ -121,7 +123,6 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
   front_ = ego.geometry.length - rear_;
   const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{ego.state.x, ego.state.y});
   s_start_ = f.s;
-  ego_l_ = f.l;
   ego_v_ = ego.state.v;
   // The SL horizon covers where the speed horizon can take the ego, so that
   // no trajectory sample runs past the planned path (and past obstacles the
@@ -185,18 +186,21 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
       }
       tr.box[u] = moving_box_sl(reference_, p.x, p.y, p.heading, o.length, o.width, settings_.dynamic_margin, o.id);
       const Scalar s_mid = Scalar(0.5) * (tr.box[u].s_min + tr.box[u].s_max);
-      if (!seen) {
+      // Classified where first seen on the reference line (behind its start
+      // the frame runs straight on, so lanes mean nothing there).
+      if (!seen && (s_mid >= 0 || k == kSamples - 1)) {
         seen = true;
         const Scalar rel = geometry::relative_heading(p.heading, reference_.evaluate(s_mid).heading);
         const bool oncoming = std::fabs(rel) > kOncomingHeading;
         const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
         // Approaching from behind, or alongside and not slower, in another
-        // lane: the ego must not move in ahead of it (it would be in its way).
-        // A follower in the ego's own lane is its own business.
+        // lane than the ego's target lane: the ego must not move in (or stay)
+        // ahead of it (it would be in its way). A follower in the target lane
+        // is its own business.
         const bool behind = tr.box[u].s_max < s_start_;
         const bool alongside = tr.box[u].s_min < s_start_ + front_ &&
                                p.v * std::cos(rel) >= ego_v_ - kAlongsideSpeedSlack;
-        const bool other_lane = std::fabs(l_mid - ego_l_) > Scalar(0.5) * road_.lane_width;
+        const bool other_lane = std::fabs(l_mid - lane_target_) > Scalar(0.5) * road_.lane_width;
         const bool from_behind = (behind || alongside) && other_lane;
         tr.crossing = std::fabs(rel) > kCrossingHeadingLow && std::fabs(rel) < kCrossingHeadingHigh &&
                       std::fabs(p.v) >= kCrossingMinSpeed;
@@ -269,10 +273,13 @@ int BasicPlanner<Cfg>::place_dynamic(const std::array<Scalar, Cfg::kStSamples>& 
       // (a manoeuvre there that stalls leaves the ego in its way). The same
       // holds for traffic coming up from behind in another lane: cutting in
       // ahead of it and slowing down gets the ego hit. Its box is everything
-      // it covers over the horizon.
+      // it covers over the horizon from the ego on (behind the ego nothing is
+      // planned, and behind the reference line's start the frame runs
+      // straight, not along the lanes).
       for (int j = 0; j < kSamples; ++j) {  // Cfg::kStSamples
         const auto u = static_cast<std::size_t>(j);
-        if (tr.present[u]) {
+        const Scalar s_mid = Scalar(0.5) * (tr.box[u].s_min + tr.box[u].s_max);
+        if (tr.present[u] && tr.box[u].s_max >= s_start_ - rear_ && s_mid >= 0) {
           b.s_min = min_of(b.s_min, tr.box[u].s_min);
           b.s_max = max_of(b.s_max, tr.box[u].s_max);
           b.l_min = min_of(b.l_min, tr.box[u].l_min);
@@ -360,10 +367,10 @@ void BasicPlanner<Cfg>::update_kappa_bound(const std::array<Scalar, Cfg::kStSamp
 // bound (it cannot slow down at once), so a path never asks for a swerve the
 // speed stage cannot make within the lateral-acceleration limit.
 template <class Cfg>
-void BasicPlanner<Cfg>::update_kappa_reach(Scalar v0) {
+void BasicPlanner<Cfg>::update_kappa_reach(CurvatureProfile& out, Scalar v0, Scalar a_lat) const {
   constexpr Scalar kOnset = Scalar(0.3);  // [s] as the ST graph's braking model
-  kappa_reach_.s0 = kappa_.s0;
-  kappa_reach_.ds = kappa_.ds;
+  out.s0 = kappa_.s0;
+  out.ds = kappa_.ds;
   const Scalar v = max_of(v0, Scalar(0));
   const Scalar brake = -limits_.a_min;  // > 0
   for (int i = 0; i < Cfg::kCurvatureSamples; ++i) {  // Cfg::kCurvatureSamples
@@ -371,10 +378,9 @@ void BasicPlanner<Cfg>::update_kappa_reach(Scalar v0) {
     const Scalar braked = max_of(s - v * kOnset, Scalar(0));
     const Scalar v_min = std::sqrt(max_of(v * v - Scalar(2) * brake * braked, Scalar(0)));
     const Scalar kr = std::fabs(kappa_.kappa[static_cast<std::size_t>(i)]);
-    Scalar kb = v_min > Scalar(1) ? min_of(limits_.kappa_max, limits_.a_lat_max / (v_min * v_min))
-                                  : limits_.kappa_max;
+    Scalar kb = v_min > Scalar(1) ? min_of(limits_.kappa_max, a_lat / (v_min * v_min)) : limits_.kappa_max;
     kb = max_of(kb, min_of(kr + Scalar(0.002), limits_.kappa_max));
-    kappa_reach_.kappa[static_cast<std::size_t>(i)] = kb;
+    out.kappa[static_cast<std::size_t>(i)] = kb;
   }
 }
 
@@ -689,12 +695,12 @@ bool BasicPlanner<Cfg>::known_infeasible(std::uint64_t corridor) const {
 }
 
 // The track of the nearest moving obstacle whose SL box overlaps [s_lo, s_hi]
-// in s and that is not yet left out; -1: none. `sweeps`: also one whose
-// whole sweep is occupied (oncoming, or coming from behind in another lane):
-// the ST graph cannot make the ego wait for those in their lane.
+// in s and that is not yet left out; -1: none. Never one whose whole sweep
+// is occupied (oncoming, or coming from behind in another lane): the ST graph
+// cannot make the ego wait for those in their lane.
 template <class Cfg>
 int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo,
-                                       Scalar s_hi, bool sweeps) const {
+                                       Scalar s_hi) const {
   int found = -1;
   Scalar nearest = Scalar(0);
   for (std::size_t i = n_static; i < boxes_.size(); ++i) {  // <= kMaxDynamicObstacles
@@ -704,7 +710,7 @@ int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, S
     }
     for (int j = 0; j < track_count_; ++j) {  // <= kMaxDynamicObstacles
       const DynamicTrack& tr = tracks_[static_cast<std::size_t>(j)];
-      if (tr.id == b.obstacle_id && !skip[j] && (sweeps || !tr.sweep_occupied)) {
+      if (tr.id == b.obstacle_id && !skip[j] && !tr.sweep_occupied) {
         found = j;
         nearest = b.s_min;
       }
@@ -746,6 +752,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
                                               const CoarseInput& ci, PathInput& pi, Plan& out) {
   bool skip[Cfg::kMaxDynamicObstacles] = {};
   chosen_ = -1;
+  evasive_ = false;
   FallbackReason why = FallbackReason::kNoDecision;  // why the next round is needed
   for (int round = 0; round <= Cfg::kMaxDynamicObstacles; ++round) {  // one more left-out obstacle per round
     if (decision_runs_ >= Cfg::kMaxDecisionRunsPerCycle) {
@@ -770,7 +777,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
     int drop = -1;
     why = FallbackReason::kNoDecision;
     if (ds == decision::DecisionStatus::kNoDecision || decision_.best() < 0) {
-      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere, true);
+      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere);
       if (drop < 0) {
         return FallbackReason::kNoDecision;
       }
@@ -780,7 +787,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
       // means the ego waits (for traffic in its sweep) or static obstacles
       // block the road (a real stop).
       const Decision& best = decision_.decisions().kept[static_cast<std::size_t>(decision_.best())];
-      drop = nearest_dynamic(n_static, skip, best.reach, blocking_slice_end(best.reach), false);
+      drop = nearest_dynamic(n_static, skip, best.reach, blocking_slice_end(best.reach));
     }
     if (drop < 0) {
       t0 = ticks_.ticks();
@@ -793,15 +800,22 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
         if (known_infeasible(corridor)) {
           continue;  // this corridor failed at the steering limit earlier in this cycle
         }
-        for (int relax = 0; relax < 2 && chosen_ < 0 && path_solves_ < Cfg::kMaxPathSolvesPerCycle;
-             ++relax) {  // expected-speed bound, then steering limit; within the cycle's budget
+        // The curvature bound at the expected speed, then at the slowest
+        // speed braking can reach, then (the two best decisions only) the
+        // same with the evasive lateral acceleration: a plan that needs it is
+        // a fallback (evasive), the safest way out, not a stop where the ego
+        // stands (in an oncoming lane, say). Within the cycle's budget.
+        const int levels = attempt < kEvasiveAttempts ? 3 : 2;
+        for (int relax = 0; relax < levels && chosen_ < 0 && path_solves_ < Cfg::kMaxPathSolvesPerCycle;
+             ++relax) {
           ++path_solves_;
-          pi.kappa_bound = relax == 0 ? &kappa_bound_ : &kappa_reach_;
+          pi.kappa_bound = relax == 0 ? &kappa_bound_ : (relax == 1 ? &kappa_reach_ : &kappa_evasive_);
           path_opt_.solve(decision_.space(), d, pi, settings_.path_weights, path_);
           ++out.qp_solves;
           out.qp_iterations += path_.iterations;
           if (qp::is_usable(path_.status)) {
             chosen_ = index;
+            evasive_ = relax == 2;
           }
         }
         if (chosen_ < 0 && path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
@@ -815,7 +829,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
       if (chosen_ >= 0) {
         return FallbackReason::kNone;
       }
-      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere, true);
+      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere);
       if (drop < 0 || path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
         return FallbackReason::kPathQpFailed;
       }
@@ -860,7 +874,8 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
   stp.kappa_ref = &kappa_;
   stp.stop_s = stop_before(kEverywhere);
   stp.path_end = start.s + length_;
-  update_kappa_reach(start.v);
+  update_kappa_reach(kappa_reach_, start.v, limits_.a_lat_max);
+  update_kappa_reach(kappa_evasive_, start.v, max_of(limits_.a_lat_max, settings_.evasive_lat_acc));
   speed::reference_profile(stp, Cfg::kSpeedHorizon, s_guess, v_guess);  // step 0
 
   decision::ConvexSpaceParams cp;
@@ -1032,6 +1047,13 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     return false;
   }
   record_decisions(out);
+  if (evasive_) {
+    // The only collision-free plan found needs more lateral acceleration than
+    // lat_acc_max: a way out, reported as a fallback.
+    out.status = PlanStatus::kFallback;
+    out.fallback = FallbackReason::kEvasive;
+    return false;
+  }
   if (blocked_by_statics_) {
     // No corridor passes the static obstacles: the optimised trajectory is a
     // stop before them, reported as a fallback.

@@ -54,28 +54,36 @@ PredictionUse predict_along_road(const geometry::BasicReferenceLine<Cfg>& line,
                                  const decision::BasicRoadSl<Cfg>& road,
                                  const scene::BasicDynamicObstacle<Cfg>& o, Scalar now, Scalar dt,
                                  std::array<scene::ObstacleSample, Cfg::kStSamples>& out) {
-  int first = -1;
   for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
-    const auto u = static_cast<std::size_t>(k);
-    out[u] = scene::sample_pose(o, now + dt * static_cast<Scalar>(k));
-    if (first < 0 && out[u].present) {
-      first = k;
+    out[static_cast<std::size_t>(k)] = scene::sample_pose(o, now + dt * static_cast<Scalar>(k));
+  }
+  if (!straight_line(o)) {
+    return PredictionUse::kAsGiven;
+  }
+  // The anchor: the first sample on the reference line (beyond its ends the
+  // frame runs straight on, not along the road: no road to follow there).
+  // Samples before it stay as given.
+  int first = -1;
+  geometry::CurveSample foot;
+  geometry::FrenetPoint f0;
+  for (int k = 0; k < Cfg::kStSamples && first < 0; ++k) {  // Cfg::kStSamples
+    const scene::ObstacleSample& q = out[static_cast<std::size_t>(k)];
+    if (q.present) {
+      f0 = line.to_frenet(geometry::Point2{q.x, q.y}, foot);
+      if (f0.s >= 0 && f0.s <= line.length()) {
+        first = k;
+      }
     }
   }
-  if (first < 0 || !straight_line(o)) {
+  if (first < 0) {
     return PredictionUse::kAsGiven;
   }
   const scene::ObstacleSample p0 = out[static_cast<std::size_t>(first)];
-  geometry::CurveSample foot;
-  const geometry::FrenetPoint f0 = line.to_frenet(geometry::Point2{p0.x, p0.y}, foot);
   const Scalar rel0 = geometry::wrap_angle(p0.heading - foot.heading);
   const bool along = std::fabs(rel0) <= kAlongHeading || std::fabs(rel0) >= kOncomingHeading;
   const Scalar right = road.right.at(f0.s);
   const Scalar left = road.left.at(f0.s);
-  // Beyond the ends of the reference line the frame runs straight on, not
-  // along the road: no road to follow there.
-  const bool on_road = f0.l > right - kOffRoad && f0.l < left + kOffRoad && f0.s >= 0 &&
-                       f0.s <= line.length();
+  const bool on_road = f0.l > right - kOffRoad && f0.l < left + kOffRoad;
   if (!along || !on_road || std::fabs(p0.v) < kMovingSpeed) {
     return PredictionUse::kAsGiven;
   }

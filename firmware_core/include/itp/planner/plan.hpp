@@ -32,7 +32,8 @@ enum class FallbackReason : std::uint8_t {
   kPathQpFailed,
   kSpeedQpFailed,
   kCollision,         // the optimised trajectory still collides after the last iteration
-  kHorizonTooShort,   // the reference line ends too close ahead
+  kHorizonTooShort,   // the ego is at (or past) the end of the reference line
+  kEvasive,           // the only path found needs more than lat_acc_max (up to evasive_lat_acc)
 };
 
 const char* to_string(FallbackReason reason);

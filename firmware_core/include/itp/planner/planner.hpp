@@ -34,6 +34,10 @@ struct PlannerSettings {
   Scalar replan_speed = Scalar(1.0);     // [m/s]
   Scalar hysteresis = Scalar(0.3);       // decision-cost bonus for keeping last cycle's sides
   Scalar moving_side_flip_cost = Scalar(100);  // decision cost of passing a moving obstacle on the other side than last cycle
+  // [m/s^2] the lateral acceleration a path may need when no path within
+  // lat_acc_max exists: the plan is then a fallback (evasive), not a stop
+  // where the ego stands (in an oncoming lane, say).
+  Scalar evasive_lat_acc = Scalar(3.8);
   Scalar blocked_lane_weight = Scalar(1.0);  // [1/m] decision-cost per metre a blocked stop is off the target lane
   decision::DecisionWeights decision_weights{};
   path::PathWeights path_weights{};
@@ -132,8 +136,7 @@ class BasicPlanner {
   int place_dynamic(const StSamples& s_guess, bool* skip);
   std::uint64_t corridor_signature(const Decision& d, const PathInput& pi) const;
   bool known_infeasible(std::uint64_t corridor) const;
-  int nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo, Scalar s_hi,
-                      bool sweeps) const;
+  int nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo, Scalar s_hi) const;
   Scalar blocking_slice_end(Scalar reach) const;
   Scalar stop_before(Scalar reach) const;
   FallbackReason decide_path(const StSamples& s_guess, std::size_t n_static,
@@ -149,7 +152,7 @@ class BasicPlanner {
   int rank_decisions(std::array<int, Cfg::kKeptDecisions>& order) const;
   Scalar hysteresis_bonus(int index) const;
   void update_kappa_bound(const StSamples& s_guess, const StSamples& v_guess);
-  void update_kappa_reach(Scalar v0);
+  void update_kappa_reach(CurvatureProfile& out, Scalar v0, Scalar a_lat) const;
 
   TickSource ticks_{};
   PlannerSettings settings_{};
@@ -160,12 +163,12 @@ class BasicPlanner {
   CurvatureProfile kappa_{};
   CurvatureProfile kappa_bound_{};  // |κ| the path may have at the expected speed
   CurvatureProfile kappa_reach_{};  // ... at the slowest speed braking can reach there
+  CurvatureProfile kappa_evasive_{};  // ... with the evasive lateral acceleration
   RoadSl road_{};
   decision::VehicleLimits limits_{};
   geometry::Point2 origin_{};  // [m] first reference point (s = 0) of the last prepared cycle
   Scalar lane_target_ = 0;  // [m] target lane centre
   Scalar s_start_ = 0;   // [m] path start (the ego's s)
-  Scalar ego_l_ = 0;     // [m] the ego's lateral offset
   Scalar ego_v_ = 0;     // [m/s] the ego's speed
   Scalar length_ = 0;    // [m] path length this cycle
   Scalar map_end_ = 0;   // [m] path s where the reference line (the map) ends
@@ -194,6 +197,7 @@ class BasicPlanner {
   int chosen_ = -1;  // decision index in decision_.decisions().kept
   bool blocked_ = false;  // the chosen corridor ends before the horizon
   bool blocked_by_statics_ = false;  // ... at static obstacles alone (not waiting for traffic)
+  bool evasive_ = false;  // the chosen path needs the evasive lateral acceleration
 
   // The previous cycle's output, for stitching and fallbacks.
   Plan previous_{};
