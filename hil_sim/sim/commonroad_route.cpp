@@ -133,35 +133,6 @@ double distance_to_polygon(const std::vector<Point2>& poly, Point2 p) {
   return d;
 }
 
-// The lanelet holding the ego: within kEgoOutsideTolerance of its polygon and
-// heading the same way (within 90 deg of its centre line at the ego); among
-// several, vehicle lanes first, then the one the ego is deepest inside, then
-// the smallest heading difference, then the lowest id.
-std::optional<EgoLanelet> find_ego_lanelet(const cr::Scenario& sc, const Network& net, const Pose& ego,
-                                           std::string& nearest) {
-  std::optional<EgoLanelet> best;
-  std::tuple<bool, double, double, long> best_key{};
-  double nearest_d = std::numeric_limits<double>::infinity();
-  for (const cr::Lanelet& l : sc.lanelets) {
-    const double outside = distance_to_polygon(lanelet_polygon(l), {ego.x, ego.y});
-    if (outside < nearest_d) {
-      nearest_d = outside;
-      nearest = fmt::format("nearest: lanelet {}, {:.2f} m away", l.id, outside);
-    }
-    if (outside > kEgoOutsideTolerance) continue;
-    const std::vector<Point2>& c = net.centre(l);
-    const PolylineProjection pr = project_to_polyline(c, ego.x, ego.y);
-    const double dh = std::fabs(wrap_angle(ego.heading - pr.heading));
-    if (dh >= std::numbers::pi / 2) continue;
-    const std::tuple<bool, double, double, long> key{!is_vehicle_lane(l), outside, dh, l.id};
-    if (!best || key < best_key) {
-      best = EgoLanelet{&l, outside};
-      best_key = key;
-    }
-  }
-  return best;
-}
-
 double length_of(const std::vector<Point2>& line) { return polyline_arc_lengths(line).back(); }
 
 // Lanelets a goal is reached from, by successors, within kMaxGoalSearch steps
@@ -179,6 +150,38 @@ std::optional<int> steps_to_goal(const Network& net, long start, const std::set<
     }
   }
   return std::nullopt;
+}
+
+// The lanelet holding the ego: within kEgoOutsideTolerance of its polygon and
+// heading the same way (within 90 deg of its centre line at the ego). Among
+// several (overlapping lanelets at junctions): vehicle lanes first, then those
+// holding the ego, then those a goal lanelet is reached from, then the
+// smallest heading difference, then the nearest, then the lowest id.
+std::optional<EgoLanelet> find_ego_lanelet(const cr::Scenario& sc, const Network& net, const Pose& ego,
+                                           const std::set<long>& goals, std::string& nearest) {
+  std::optional<EgoLanelet> best;
+  std::tuple<bool, bool, bool, double, double, long> best_key{};
+  double nearest_d = std::numeric_limits<double>::infinity();
+  for (const cr::Lanelet& l : sc.lanelets) {
+    const double outside = distance_to_polygon(lanelet_polygon(l), {ego.x, ego.y});
+    if (outside < nearest_d) {
+      nearest_d = outside;
+      nearest = fmt::format("nearest: lanelet {}, {:.2f} m away", l.id, outside);
+    }
+    if (outside > kEgoOutsideTolerance) continue;
+    const std::vector<Point2>& c = net.centre(l);
+    const PolylineProjection pr = project_to_polyline(c, ego.x, ego.y);
+    const double dh = std::fabs(wrap_angle(ego.heading - pr.heading));
+    if (dh >= std::numbers::pi / 2) continue;
+    const bool reaches_goal = !goals.empty() && steps_to_goal(net, l.id, goals).has_value();
+    const std::tuple<bool, bool, bool, double, double, long> key{!is_vehicle_lane(l), outside > 0.0, !reaches_goal,
+                                                                 dh, outside, l.id};
+    if (!best || key < best_key) {
+      best = EgoLanelet{&l, outside};
+      best_key = key;
+    }
+  }
+  return best;
 }
 
 // Picks the next lanelet among `options` (successors, or predecessors when
@@ -341,8 +344,9 @@ RouteResult build_route(const cr::Scenario& sc, const Pose& ego, const RouteOpti
     return res;
   }
   const Network net(sc);
+  const std::set<long> goals(opt.goal_lanelets.begin(), opt.goal_lanelets.end());
   std::string nearest;
-  const std::optional<EgoLanelet> ego_lanelet = find_ego_lanelet(sc, net, ego, nearest);
+  const std::optional<EgoLanelet> ego_lanelet = find_ego_lanelet(sc, net, ego, goals, nearest);
   if (!ego_lanelet) {
     res.error = fmt::format(
         "the ego at ({:.2f}, {:.2f}), heading {:.3f} rad, lies in no lanelet that runs its way "
@@ -352,7 +356,6 @@ RouteResult build_route(const cr::Scenario& sc, const Pose& ego, const RouteOpti
   }
   LaneRoute route;
   std::string error;
-  const std::set<long> goals(opt.goal_lanelets.begin(), opt.goal_lanelets.end());
   for (long g : goals) {
     if (!net.find(g)) {
       res.error = fmt::format("planningProblem goalState: goal lanelet {} does not exist", g);

@@ -309,12 +309,17 @@ CommonRoadImport map_commonroad(const cr::Scenario& sc, const CommonRoadOptions&
   } else if (signed_limit) {
     w.road.speed_limit = *signed_limit;
     out.notes.push_back(fmt::format("speed limit {:.2f} m/s from the max-speed sign of {}", *signed_limit, source));
-  } else {
-    w.road.speed_limit = std::max(kCommonRoadDefaultSpeedLimit, w.ego.v);
-    out.notes.push_back(fmt::format("no max-speed sign on the route: speed limit {:.2f} m/s (default)", w.road.speed_limit));
   }
-
   if (!map_obstacles(sc, frame, w, out)) return out;
+  if (!opt.speed_limit && !signed_limit) {
+    // No sign: 50 km/h, but not below the speeds the scenario starts with.
+    double fastest = w.ego.v;
+    for (const DynamicObstacle& d : w.dynamic_obstacles) fastest = std::max(fastest, d.trajectory.front().v);
+    w.road.speed_limit = std::max(kCommonRoadDefaultSpeedLimit, fastest);
+    out.notes.push_back(fmt::format("no max-speed sign on the route: speed limit {:.2f} m/s (the default: 50 km/h, "
+                                    "or the fastest initial speed of the ego and the traffic)",
+                                    w.road.speed_limit));
+  }
   out.world = std::move(w);
   return out;
 }

@@ -19,7 +19,8 @@ namespace hil::sim {
 inline constexpr double kCommonRoadEgoLength = 4.508;     // [m]
 inline constexpr double kCommonRoadEgoWidth = 1.610;      // [m]
 inline constexpr double kCommonRoadEgoWheelbase = 2.579;  // [m] a + b = 1.156 + 1.422
-// No max-speed sign on the route: 50 km/h, raised to the ego's initial speed.
+// No max-speed sign on the route: 50 km/h, raised to the fastest initial speed
+// of the ego and the dynamic obstacles (a limit below them would brake for no sign).
 inline constexpr double kCommonRoadDefaultSpeedLimit = 50.0 / 3.6;  // [m/s]
 inline constexpr double kCommonRoadDefaultDuration = 20.0;          // [s] no goal time, no trajectories
 inline constexpr double kCommonRoadMaxDuration = 60.0;              // [s] cap on the scenario's own length

@@ -17,6 +17,7 @@ constexpr double kAheadBeyondPath = 40.0;  // [m] kept ahead beyond the SL horiz
 constexpr double kPredictionStep = 0.1;    // [s]
 constexpr double kRelevantRange = 160.0;   // [m] obstacles farther from the ego are left out
 constexpr double kRelevanceStep = 0.5;     // [s] sampling of the relevance rule
+constexpr double kRelevanceBraking = 4.0;  // [m/s^2] the braking ego of the relevance rule
 
 template <class Cfg>
 void copy_boundary(const Boundary& from, double s0, double length, double margin, EdgeSide side,
@@ -37,21 +38,29 @@ void copy_boundary(const Boundary& from, double s0, double length, double margin
   }
 }
 
-// The ego's footprint t seconds ahead, moving along the reference line at its
-// current speed and lateral offset (the relevance rule's yardstick).
+// The ego's footprint every kRelevanceStep from now, moving along the
+// reference line at its current lateral offset, in two ways: at its current
+// speed, and braking at kRelevanceBraking to a stop (what a fallback does; it
+// makes the traffic close behind relevant).
 struct EgoSweep {
-  std::vector<OrientedBox> boxes;  // every kRelevanceStep from now
+  std::vector<OrientedBox> cruising;
+  std::vector<OrientedBox> braking;
 };
 
 EgoSweep ego_sweep(const World& w, const std::vector<double>& arc, const EgoNow& ego, double horizon) {
   EgoSweep sweep;
   const PolylineProjection p = project_to_polyline(w.reference_line, ego.x, ego.y);
   const int steps = static_cast<int>(std::lround(horizon / kRelevanceStep));
+  const double v = std::max(0.0, ego.v);
   for (int k = 0; k <= steps; ++k) {
     const double t = kRelevanceStep * k;
-    const Pose pose = k == 0 ? Pose{ego.x, ego.y, ego.heading}
-                             : polyline_pose(w.reference_line, arc, p.s + ego.v * t, p.l);
-    sweep.boxes.push_back(ego_box(pose, w.ego.length, w.ego.width, w.ego.wheelbase));
+    const double t_stop = std::min(t, v / kRelevanceBraking);
+    const double braked = v * t_stop - 0.5 * kRelevanceBraking * t_stop * t_stop;
+    const Pose now{ego.x, ego.y, ego.heading};
+    const Pose cruise = k == 0 ? now : polyline_pose(w.reference_line, arc, p.s + v * t, p.l);
+    const Pose brake = k == 0 ? now : polyline_pose(w.reference_line, arc, p.s + braked, p.l);
+    sweep.cruising.push_back(ego_box(cruise, w.ego.length, w.ego.width, w.ego.wheelbase));
+    sweep.braking.push_back(ego_box(brake, w.ego.length, w.ego.width, w.ego.wheelbase));
   }
   return sweep;
 }
@@ -132,9 +141,9 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
   const EgoSweep sweep = ego_sweep(w, arc, ego, kHorizon);
   auto approach = [&](auto&& box_at) {
     double d = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < sweep.boxes.size(); ++k) {
+    for (std::size_t k = 0; k < sweep.cruising.size(); ++k) {
       if (const std::optional<OrientedBox> b = box_at(kRelevanceStep * static_cast<double>(k))) {
-        d = std::min(d, box_distance(*b, sweep.boxes[k]));
+        d = std::min({d, box_distance(*b, sweep.cruising[k]), box_distance(*b, sweep.braking[k])});
       }
     }
     return d;

@@ -54,7 +54,8 @@ ConvertResult make_planner_scene(const World& world, const EgoNow& ego, double n
 // smallest distance between the obstacle's footprint (as sent: its
 // prediction, sampled every 0.5 s over the speed horizon) and the ego's
 // footprint moving along its lane (the reference line, at its current lateral
-// offset) at its current speed. Smaller is more relevant; ties go to the
+// offset) either at its current speed or braking at 4 m/s^2 to a stop (so the
+// traffic close behind counts too). Smaller is more relevant; ties go to the
 // obstacle ahead of the ego, then to the nearer one now, then to the lower id.
 struct Relevance {
   double approach_m = 0.0;  // [m] nearest predicted approach to the ego
