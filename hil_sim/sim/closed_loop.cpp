@@ -212,6 +212,8 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
         break;
       }
       rec.left_out = conv.left_out();
+      rec.reference_deviation_m = conv.reference_deviation_m;
+      rec.boundary_narrowing_m = conv.boundary_narrowing_m;
       metrics.add_left_out(rec.left_out);
       picker.remember(k, t, *scene);
       const EndpointResult er = endpoint.plan(*scene, t, *plan);
@@ -474,6 +476,8 @@ void write_trace(std::ofstream& out, const std::string& scene, const SceneRunRes
     }
     j["decisions"] = c.decisions;
     if (c.left_out > 0) j["obstacles_left_out"] = c.left_out;
+    if (c.reference_deviation_m > 0) j["reference_deviation_m"] = c.reference_deviation_m;
+    if (c.boundary_narrowing_m > 0) j["boundary_narrowing_m"] = c.boundary_narrowing_m;
     j["clearance"] = c.clearance ? json(*c.clearance) : json(nullptr);
     if (k < r.trace.size()) {
       j["x"] = r.trace[k].pose.x;

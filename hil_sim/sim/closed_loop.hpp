@@ -54,6 +54,8 @@ struct CycleRecord {
   double path_deviation_t = 0.0;   // [s] plan time of that largest deviation
   std::string decisions;           // per obstacle "id:lateral/longitudinal", e.g. "3:L/ignore 7:-/follow"
   int left_out = 0;                // obstacles in range the scene could not hold (least relevant first)
+  double reference_deviation_m = 0.0;  // resampling of the road window to the capacities
+  double boundary_narrowing_m = 0.0;   // (ConvertResult)
 };
 
 // A cycle worth a look (RunOptions::keep_snapshot): the first fallback /
