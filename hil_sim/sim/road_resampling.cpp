@@ -24,29 +24,37 @@ std::vector<Knot> restrict_to(std::span<const Knot> truth, double s_begin, doubl
   return out;
 }
 
-// Greedy chords below the truth (left edge) with gaps <= tol. A chord from
-// knot i with slope m lies below knot k > i iff m <= (l_k - l_i) / (s_k - s_i)
-// and within tol of it iff m >= (l_k - tol - l_i) / (s_k - s_i): so the
+// Greedy segments inside the band [truth - tol, truth] (left edge). Both are
+// piecewise linear with breaks at the truth's knots, and the fit's knots are
+// placed at truth knots, so the band need only hold at the truth's knots.
+// From the current knot (s_i, f_i), a slope m keeps knot k > i in the band iff
+// (l_k - tol - f_i) / (s_k - s_i) <= m <= (l_k - f_i) / (s_k - s_i): the
 // feasible slopes for reaching j form an interval, narrowed as j advances.
-// Returns the knots, or nothing when more than max_knots would be needed.
-std::optional<std::vector<Knot>> greedy_chords(const std::vector<Knot>& t, double tol, std::size_t max_knots) {
-  std::vector<Knot> out{t.front()};
+// The segment ends at the last knot the interval reaches, with the middle
+// slope; the next one starts there. The first knot starts tol/2 below the
+// truth. Returns the knots, or nothing when more than max_knots are needed.
+std::optional<std::vector<Knot>> band_segments(const std::vector<Knot>& t, double tol, std::size_t max_knots) {
+  std::vector<Knot> out{{t.front().s, t.front().l - 0.5 * tol}};
   std::size_t i = 0;
   while (i + 1 < t.size()) {
-    double upper = std::numeric_limits<double>::infinity();
+    const Knot from = out.back();
     double lower = -std::numeric_limits<double>::infinity();
-    std::size_t best = i + 1;
+    double upper = std::numeric_limits<double>::infinity();
+    std::size_t last = i + 1;
     for (std::size_t j = i + 1; j < t.size(); ++j) {
-      const double m = (t[j].l - t[i].l) / (t[j].s - t[i].s);
-      if (j > i + 1 && m >= lower && m <= upper) best = j;
-      // Knot j becomes an interior knot for every later chord.
-      upper = std::min(upper, m);
-      lower = std::max(lower, (t[j].l - tol - t[i].l) / (t[j].s - t[i].s));
-      if (lower > upper) break;
+      const double ds = t[j].s - from.s;
+      const double lo = std::max(lower, (t[j].l - tol - from.l) / ds);
+      const double hi = std::min(upper, (t[j].l - from.l) / ds);
+      if (lo > hi && j > i + 1) break;
+      lower = lo;
+      upper = std::max(lo, hi);  // the first knot is always reachable (rounding aside)
+      last = j;
     }
-    out.push_back(t[best]);
+    const double m = 0.5 * (lower + upper);
+    // Never above the truth, whatever the rounding.
+    out.push_back({t[last].s, std::min(t[last].l, from.l + m * (t[last].s - from.s))});
     if (out.size() > max_knots) return std::nullopt;
-    i = best;
+    i = last;
   }
   return out;
 }
@@ -120,12 +128,12 @@ EdgeFit fit_edge_inside(std::span<const Knot> truth, double s_begin, double s_en
     double hi = 0.0;
     for (const Knot& k : t) hi = std::max(hi, std::fabs(k.l - t.front().l));
     hi = 2.0 * hi + 1.0;
-    if (greedy_chords(t, hi, budget)) {
+    if (band_segments(t, hi, budget)) {
       for (int it = 0; it < kBisections; ++it) {
         const double mid = 0.5 * (lo + hi);
-        (greedy_chords(t, mid, budget) ? hi : lo) = mid;
+        (band_segments(t, mid, budget) ? hi : lo) = mid;
       }
-      std::vector<Knot> chords = *greedy_chords(t, hi, budget);
+      std::vector<Knot> chords = *band_segments(t, hi, budget);
       const double gap = max_edge_gap(t, chords, s_begin, s_end);
       if (gap < best_gap) {
         best = std::move(chords);

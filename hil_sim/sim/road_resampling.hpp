@@ -27,8 +27,9 @@ struct EdgeFit {
 // fit(s) <= truth(s) for the left edge, >= for the right, for every s in
 // [s_begin, s_end]. When truth has few enough knots there, they are copied
 // (exact). Otherwise the better of two fits, by their exact worst error:
-//  - greedy chords: a subset of the truth's knots, each chord below the truth
-//    (left edge), the largest gap bisected down to the smallest that fits;
+//  - greedy segments in the band [truth - tol, truth] (left edge), knots at
+//    some of the truth's knots, tol bisected down to the smallest that fits
+//    (noise in the truth smaller than tol costs no knots);
 //  - a uniform grid of max_knots knots, spacing h, each knot at the minimum of
 //    the truth over its two neighbouring intervals: the gap is then at most
 //    the truth's oscillation over any 3h (<= 3 h max|dl/ds|).
