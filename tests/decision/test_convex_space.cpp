@@ -47,6 +47,23 @@ TEST_CASE("an obstacle splits its slice into a left and a right zone") {
   CHECK(left.successors == 0b1u);
 }
 
+TEST_CASE("an obstacle starting within the last 2 m of the horizon blocks only its own slice") {
+  // Horizon [0, 100]; the box starts 1.2 m before the end. Merging that short
+  // last slice into the one before stretched the box back to s = 0, so the
+  // whole lane it stands in was blocked from the ego on.
+  const std::vector<SlBox> boxes{box(98.8, 104, -1.75, 1.0, 2)};
+  auto space = std::make_unique<ConvexSpace>();
+  REQUIRE(build_convex_space(road(-1.75, 5.25), boxes, params(), *space) == ConvexSpaceStatus::kOk);
+  REQUIRE(space->slices.size() == 2);
+  CHECK(space->slices[0].s_end == doctest::Approx(98.8));
+  REQUIRE(space->slices[0].zone_count == 1);
+  const Zone& before = space->zones[static_cast<std::size_t>(space->slices[0].first_zone)];
+  CHECK(before.l_min == doctest::Approx(-1.75));  // the ego's lane is free up to the box
+  CHECK(before.l_max == doctest::Approx(5.25));
+  CHECK(space->slices[1].s_begin == doctest::Approx(98.8));
+  CHECK(space->slices[1].s_end == doctest::Approx(100));
+}
+
 TEST_CASE("gaps narrower than the vehicle are not zones") {
   const std::vector<SlBox> boxes{box(40, 45, -1.0, 5.25, 1)};  // leaves 0.75 m on the right
   auto space = std::make_unique<ConvexSpace>();

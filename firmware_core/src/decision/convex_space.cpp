@@ -53,7 +53,11 @@ int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
     if (v - cuts[static_cast<std::size_t>(kept - 1)] >= kMinSliceLength) {
       cuts[static_cast<std::size_t>(kept++)] = v;
     } else if (i == n - 1) {
-      cuts[static_cast<std::size_t>(kept - 1)] = v;  // the horizon end always stays
+      // The horizon end always stays. Dropping the cut before it instead
+      // would stretch the box that starts there back over the whole previous
+      // slice (an obstacle entering the last 2 m of the horizon then blocked
+      // its lanes from the ego on); a short last slice only ends the corridor.
+      cuts[static_cast<std::size_t>(kept++)] = v;
     }
   }
   return kept;
