@@ -267,7 +267,9 @@ int run_import(const ImportOptions& opt) {
 }
 
 // The CommonRoad import's options, on `import` and on `run` (for XML scenes).
-void add_commonroad_options(CLI::App* cmd, hil::sim::CommonRoadOptions& o) {
+// On `import` the run length is --duration (also --scenario-duration); on `run`
+// --duration already sets the run length for every scene.
+void add_commonroad_options(CLI::App* cmd, hil::sim::CommonRoadOptions& o, bool on_import) {
   cmd->add_option("--planning-problem", o.planning_problem,
                   "CommonRoad: id of the planning problem that gives the ego (default: the first)");
   cmd->add_flag("--opposite-lanes", o.opposite_lanes,
@@ -275,7 +277,7 @@ void add_commonroad_options(CLI::App* cmd, hil::sim::CommonRoadOptions& o) {
   cmd->add_option("--speed-limit", o.speed_limit,
                   "CommonRoad: speed limit [m/s] instead of the route's max-speed signs")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--scenario-duration", o.duration,
+  cmd->add_option(on_import ? "--duration,--scenario-duration" : "--scenario-duration", o.duration,
                   "CommonRoad: run length [s] written into the scene (default: the goal's time interval end or the "
                   "last obstacle time step, at most 60 s)")
       ->check(CLI::PositiveNumber);
@@ -324,7 +326,7 @@ int main(int argc, char** argv) {
   import_cmd->add_option("file", imp.file, "CommonRoad XML file")->required()->check(CLI::ExistingFile);
   import_cmd->add_option("--out", imp.out, "Write scene/1 here (default: standard output)");
   import_cmd->add_flag("--quiet", imp.quiet, "Do not list the import's notes (choices, defaults, content left out)");
-  add_commonroad_options(import_cmd, imp.commonroad);
+  add_commonroad_options(import_cmd, imp.commonroad, true);
 
   hil::sim::RunCommand run;
   auto* run_cmd = app.add_subcommand("run", "Closed-loop simulation: drive the planner over scenes, report metrics");
@@ -349,7 +351,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--trace", run.trace, "Write one JSON object per cycle (status, reason, ego pose, speed) to this file");
   run_cmd->add_option("--duration", run.duration, "Run length per scene [s] (default: the scene's, else 12)")
       ->check(CLI::PositiveNumber);
-  add_commonroad_options(run_cmd, run.commonroad);
+  add_commonroad_options(run_cmd, run.commonroad, false);
 
   std::string compare_a, compare_b, compare_json;
   auto* compare_cmd = app.add_subcommand(

@@ -196,7 +196,7 @@ const cr::Lanelet* choose_next(const Network& net, const cr::Lanelet& from, cons
     const cr::Lanelet* l = net.get(id, from, relation, error);
     if (!l) return nullptr;
     const std::vector<Point2>& c = net.centre(*l);
-    const double dir = forward ? heading_of(c.front(), c.back()) : heading_of(c.back(), c.front()) + std::numbers::pi;
+    const double dir = heading_of(c.front(), c.back());  // its overall driving direction
     const double turn = std::fabs(wrap_angle(dir - heading));
     const std::optional<int> to_goal = forward && !goals.empty() ? steps_to_goal(net, id, goals) : std::nullopt;
     const std::tuple<int, double, long> key{to_goal.value_or(std::numeric_limits<int>::max()), turn, id};

@@ -99,21 +99,23 @@ std::optional<double> route_speed_limit(const cr::Scenario& sc, const LaneRoute&
     }
   }
   if (!error.empty()) return std::nullopt;
-  // In force at the ego when its own lanelet has no sign: walk back.
-  if (!lanelet_limit(*lanelets.at(route.lanelets[route.ego_index]), signs, error, notes)) {
-    const cr::Lanelet* l = lanelets.at(route.lanelets[route.ego_index]);
-    for (int k = 0; k < kMaxPredecessorsForLimit && l && !l->predecessors.empty(); ++k) {
-      const auto it = lanelets.find(l->predecessors.front());
-      l = it == lanelets.end() ? nullptr : it->second;
-      if (!l) break;
-      const std::optional<double> v = lanelet_limit(*l, signs, error, notes);
-      if (v) {
-        if (!limit || *v < *limit) {
-          limit = v;
-          source = fmt::format("lanelet {} (behind the ego)", l->id);
-        }
-        break;
+  // In force at the ego when its own lanelet has no sign: the nearest behind it.
+  const cr::Lanelet* l = lanelets.at(route.lanelets[route.ego_index]);
+  if (l->speed_limit || !l->traffic_signs.empty()) {
+    std::vector<std::string> repeated;  // its signs were read (and noted) above
+    if (lanelet_limit(*l, signs, error, repeated)) return limit;
+  }
+  for (int k = 0; k < kMaxPredecessorsForLimit && !l->predecessors.empty(); ++k) {
+    const auto it = lanelets.find(l->predecessors.front());
+    if (it == lanelets.end()) break;
+    l = it->second;
+    const std::optional<double> v = lanelet_limit(*l, signs, error, notes);
+    if (v) {
+      if (!limit || *v < *limit) {
+        limit = v;
+        source = fmt::format("lanelet {} (behind the ego)", l->id);
       }
+      break;
     }
   }
   return limit;
