@@ -211,7 +211,7 @@ TEST_CASE("closed loop: decision-stage runs stay within the per-cycle budget, an
                                                     << " (" << ep.ok_at_budget << " still ok)");
 }
 
-TEST_CASE("closed loop: more traffic in range than the scene holds never ends the run; what was left out is counted") {
+TEST_CASE("closed loop: more traffic in range than the scene holds never ends the run, and what was left out is counted") {
   World w = straight_road(400.0, 10.0, 15.0);
   w.road.left_boundary = Boundary::constant_at(8.75);  // three lanes
   // 9 cars in the two left lanes, all in range, driving along: 4 more than the default scene holds.

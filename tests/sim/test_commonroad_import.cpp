@@ -281,7 +281,7 @@ TEST_CASE("shapes: circles and polygons as their bounding boxes, rectangles with
   CHECK(car.trajectory[0].heading == doctest::Approx(0.0));
 }
 
-TEST_CASE("an obstacle given only by its initial state moves on at constant velocity; a missing speed comes from its positions") {
+TEST_CASE("an obstacle given only by its initial state moves on at constant velocity, and a missing speed comes from its positions") {
   const std::string car = "<shape><rectangle><length>4</length><width>2</width></rectangle></shape>";
   const std::string body =
       x::lanelet(1, 0, 200, 0, 3.5) + x::planning_problem(100, 10, 1.75, 0, 10) +
@@ -350,7 +350,7 @@ TEST_CASE("speed limit: the lowest max-speed sign along the route, the one in fo
         doctest::Approx(7.5));
 }
 
-TEST_CASE("the route: the straightest successor, or the one towards the goal; the road across it") {
+TEST_CASE("the route: the straightest successor, or the one towards the goal") {
   // 1 (0..50) branches into 2 (straight on) and 3 (30 deg to the left).
   std::string turn_left, turn_right;
   for (int i = 0; i <= 20; ++i) {

@@ -158,7 +158,7 @@ TEST_CASE("more obstacles in range than the scene holds: the most relevant are k
   CHECK(itp::scene::validate(s).ok());
 }
 
-TEST_CASE("dynamic obstacles beyond the capacity: the car close behind outranks far traffic") {
+TEST_CASE("dynamic obstacles beyond the capacity: the car close behind, which a braking ego would meet, outranks traffic alongside") {
   World w = open_road();
   w.ego.x = 60.0;
   auto car = [](int id, double x, double y, double v) {
@@ -169,15 +169,21 @@ TEST_CASE("dynamic obstacles beyond the capacity: the car close behind outranks 
     d.trajectory.push_back({0.0, x, y, 0.0, v});
     return d;
   };
-  w.dynamic_obstacles.push_back(car(1, 50.0, 0.0, 10.0));   // 10 m behind in the ego's lane, same speed
-  for (int i = 0; i < 6; ++i) w.dynamic_obstacles.push_back(car(10 + i, 100.0 + 15 * i, 3.5, 14.0));  // ahead, pulling away
+  // 25 m behind in the ego's lane at the ego's speed: 20 m away as long as the
+  // ego cruises, but it meets the ego if the ego brakes (stopped after 12.5 m).
+  w.dynamic_obstacles.push_back(car(1, 35.0, 0.0, 10.0));
+  // Six cars around the ego in the next lane (1.65 m gap), at the ego's speed,
+  // each nearer than that follower to the cruising ego (at most 14 m), and one far ahead.
+  for (int i = 0; i < 6; ++i) w.dynamic_obstacles.push_back(car(10 + i, 50.0 + 6.0 * i, 3.5, 10.0));
+  w.dynamic_obstacles.push_back(car(20, 150.0, 0.0, 15.0));
   itp::scene::Scene s;
   const auto res = make_planner_scene(w, ego_at_start(w), 0.0, Prediction::kConstantVelocity, s);
   REQUIRE(res.ok);
-  CHECK(res.dynamic_left_out == 2);
-  CHECK(has_dynamic(s, 1));       // the ego braking would meet it
-  CHECK(has_dynamic(s, 10));      // the nearest ahead
-  CHECK_FALSE(has_dynamic(s, 15));  // the farthest ahead
+  CHECK(res.dynamic_left_out == 3);
+  CHECK(has_dynamic(s, 1));
+  CHECK(has_dynamic(s, 12));        // right beside the ego
+  CHECK_FALSE(has_dynamic(s, 20));  // far ahead and pulling away
+  CHECK_FALSE(has_dynamic(s, 15));  // the farthest in the next lane
 }
 
 TEST_CASE("a long winding window is resampled to the capacities within the documented bounds") {
