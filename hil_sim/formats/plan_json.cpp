@@ -18,6 +18,10 @@ nlohmann::json plan_to_json(const itp::planner::Plan& plan) {
   j["status"] = itp::to_string(plan.status);
   if (plan.status == itp::PlanStatus::kFallback) {
     j["reason"] = itp::planner::to_string(plan.fallback);
+    if (plan.fallback == itp::planner::FallbackReason::kCollision && plan.collision_obstacle >= 0) {
+      // Optional plan/1 extension (docs/planner.md): what the rejected trajectory met.
+      j["collision"] = {{"obstacle", plan.collision_obstacle}, {"t", plan.collision_time}};
+    }
   } else if (plan.status == itp::PlanStatus::kInvalidInput) {
     j["reason"] = itp::scene::to_string(plan.invalid);
   }

@@ -13,7 +13,7 @@ namespace hil::sim {
 namespace {
 
 constexpr double kBehind = 12.0;           // [m] of reference line kept behind the ego
-constexpr double kAheadBeyondPath = 40.0;  // [m] kept ahead beyond the SL horizon
+constexpr double kAheadBeyondPath = 20.0;  // [m] kept ahead beyond the longest SL horizon
 constexpr double kPredictionStep = 0.1;    // [s]
 constexpr double kRelevantRange = 160.0;   // [m] obstacles farther from the ego are left out
 constexpr double kRelevanceStep = 0.5;     // [s] sampling of the relevance rule
@@ -99,7 +99,7 @@ EgoNow ego_at_start(const World& w) {
 template <class Cfg>
 ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, Prediction mode,
                                  itp::scene::BasicScene<Cfg>& out) {
-  constexpr double kAhead = static_cast<double>(Cfg::kPathLength) + kAheadBeyondPath;
+  constexpr double kAhead = static_cast<double>(Cfg::kMaxPathLength) + kAheadBeyondPath;
   constexpr double kHorizon = static_cast<double>(Cfg::kSpeedHorizon);
   ConvertResult res;
   out = itp::scene::BasicScene<Cfg>{};

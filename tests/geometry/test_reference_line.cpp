@@ -54,8 +54,11 @@ TEST_CASE("ReferenceLine rejects bad polylines with a named status") {
   reversal.push_back({reversal.back().x - Scalar(3), reversal.back().y + Scalar(0.1)});
   CHECK(try_build(reversal) == ReferenceLineStatus::kSharpTurn);
 
-  const auto too_short = test_roads::straight({Scalar(0), Scalar(0)}, 0.0, 15.0, 5.0);
+  const auto too_short = test_roads::straight({Scalar(0), Scalar(0)}, 0.0, 0.6, 0.3);
   CHECK(try_build(too_short) == ReferenceLineStatus::kTooShort);
+  // A short map ahead (the road ends) is still a line to plan a stop on.
+  const auto short_map = test_roads::straight({Scalar(0), Scalar(0)}, 0.0, 6.0, 2.0);
+  CHECK(try_build(short_map) == ReferenceLineStatus::kOk);
 
   // Two points are enough for a straight line.
   CHECK(try_build({{Scalar(0), Scalar(0)}, {Scalar(30), Scalar(40)}}) == ReferenceLineStatus::kOk);

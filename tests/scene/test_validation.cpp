@@ -45,7 +45,11 @@ const std::vector<Case>& cases() {
        [](Scene& s) { s.reference_line[5] = s.reference_line[4]; }},
       {"reference line reverses", R::kReferenceLineSharpTurn,
        [](Scene& s) { s.reference_line[10] = {Scalar(40), Scalar(0.5)}; }},
-      {"reference line 15 m long", R::kReferenceLineTooShort, [](Scene& s) { (void)s.reference_line.resize(4); }},
+      {"reference line 0.6 m long", R::kReferenceLineTooShort,
+       [](Scene& s) {
+         (void)s.reference_line.resize(2);
+         s.reference_line[1] = {Scalar(0.6), Scalar(0)};
+       }},
       {"lane width 1 m", R::kLaneWidthOutOfRange, [](Scene& s) { s.road.lane_width = Scalar(1); }},
       {"lane width 9 m", R::kLaneWidthOutOfRange, [](Scene& s) { s.road.lane_width = Scalar(9); }},
       {"boundary 80 m away", R::kBoundaryOutOfRange, [](Scene& s) { s.road.left.offset = Scalar(80); }},

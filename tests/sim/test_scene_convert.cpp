@@ -237,10 +237,11 @@ TEST_CASE("the conversion takes its capacities from the receiving configuration"
   CHECK(s.road.left.table.size() <= static_cast<std::size_t>(itp::CompactConfig::kMaxBoundaryPoints));
   CHECK(s.static_obstacles.size() == static_cast<std::size_t>(itp::CompactConfig::kMaxStaticObstacles));
   CHECK(res.static_left_out == 2);
-  // The compact window is shorter: 60 m path + 40 m + 12 m behind.
+  // The compact window is shorter: its longest SL horizon + 20 m ahead, 12 m behind.
   double length = 0.0;
   for (std::size_t i = 0; i + 1 < s.reference_line.size(); ++i) {
     length += std::hypot(s.reference_line[i + 1].x - s.reference_line[i].x, s.reference_line[i + 1].y - s.reference_line[i].y);
   }
-  CHECK(length < 60.0 + 40.0 + 12.0 + 1.0);
+  CHECK(length < static_cast<double>(itp::CompactConfig::kMaxPathLength) + 20.0 + 12.0 + 1.0);
+  CHECK(length < static_cast<double>(itp::DefaultConfig::kMaxPathLength));
 }

@@ -29,7 +29,7 @@ inline constexpr Scalar kReferenceSmoothing = Scalar(16);       // [m^3] spline 
                                                                 // (bandwidth lambda^(1/4) = 2 m)
 inline constexpr Scalar kMinReferencePointSpacing = Scalar(0.05);  // [m] closer = repeated point
 inline constexpr Scalar kMaxReferenceTurnPerPoint = Scalar(1.0471975511965976);  // [rad] 60 deg
-inline constexpr Scalar kMinReferenceLineLength = Scalar(20);   // [m]
+inline constexpr Scalar kMinReferenceLineLength = Scalar(1);    // [m] a map may end just ahead
 inline constexpr int kArcLengthNewtonSteps = 4;                 // s -> spline parameter
 inline constexpr int kProjectionNewtonSteps = 8;                // point -> foot point
 inline constexpr int kMaxBoxEdgeSamples = 16;                   // SL box: points per box edge
@@ -63,7 +63,11 @@ inline constexpr std::size_t kBuildIdBytes = 48;         // fixed field in Pong
 // configurations listed in itp/configurations.hpp.
 struct DefaultSizes {
   // Planning horizon (paper, Table 1)
-  static constexpr Scalar kPathLength = Scalar(100);      // [m] SL horizon
+  static constexpr Scalar kPathLength = Scalar(100);      // [m] SL horizon (the shortest)
+  // The SL horizon grows with speed to cover where the speed horizon can take
+  // the ego (v T + front + stop margin), up to this; the speed plan never
+  // leaves it (it stops within it instead).
+  static constexpr Scalar kMaxPathLength = Scalar(250);   // [m] 7 s at 36 m/s (130 km/h)
   static constexpr Scalar kSpeedHorizon = Scalar(7);      // [s] ST horizon
   static constexpr Scalar kTrajectoryStep = Scalar(0.1);  // [s] output sample step
 
@@ -103,7 +107,7 @@ template <class Sizes>
 struct Configuration : Sizes {
   using Sizes::kMaxReferencePoints, Sizes::kMaxStaticObstacles, Sizes::kMaxDynamicObstacles;
   using Sizes::kPathBlocks, Sizes::kSpeedBlocks, Sizes::kKeptDecisions;
-  using Sizes::kPathLength, Sizes::kSpeedHorizon, Sizes::kTrajectoryStep;
+  using Sizes::kPathLength, Sizes::kMaxPathLength, Sizes::kSpeedHorizon, Sizes::kTrajectoryStep;
 
   // t = 0, step, ..., horizon
   static constexpr int kTrajectorySamples =
@@ -136,7 +140,8 @@ struct Configuration : Sizes {
   static constexpr int kCoarseQpVariables = 2 * Sizes::kCoarseSamples;
   static constexpr int kCoarseQpRows = Sizes::kCoarseSamples;
 
-  static_assert(kPathLength >= Scalar(20) && kSpeedHorizon >= Scalar(1) && kTrajectoryStep > 0,
+  static_assert(kPathLength >= Scalar(20) && kMaxPathLength >= kPathLength &&
+                    kSpeedHorizon >= Scalar(1) && kTrajectoryStep > 0,
                 "horizons too short to plan in");
   static_assert(kMaxReferencePoints >= 2 && Sizes::kMaxBoundaryPoints >= 1 &&
                     Sizes::kMaxPredictionSamples >= 1 && kMaxStaticObstacles >= 0 &&

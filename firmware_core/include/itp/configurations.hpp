@@ -13,6 +13,7 @@ namespace itp {
 // plan with it to prove that nothing in the library assumes the default sizes.
 struct CompactSizes : DefaultSizes {
   static constexpr Scalar kPathLength = Scalar(60);
+  static constexpr Scalar kMaxPathLength = Scalar(120);
   static constexpr Scalar kSpeedHorizon = Scalar(5);
   static constexpr int kMaxReferencePoints = 64;
   static constexpr int kMaxBoundaryPoints = 8;

@@ -14,7 +14,6 @@ constexpr int kSubSteps = 4;                       // kinematic pass: sub-steps 
 template <class Cfg>
 constexpr int kFine = (Cfg::kCoarseSamples - 1) * kSubSteps + 1;  // points of the kinematic pass
 constexpr Scalar kMinSpeed = Scalar(0.1);          // [m/s] floor when integrating 1/v
-constexpr Scalar kKappaFloor = Scalar(1e-4);       // [1/m] below this, no curvature speed limit
 
 constexpr int l_var(int i) { return 2 * i; }
 constexpr int t_var(int i) { return 2 * i + 1; }
@@ -75,12 +74,8 @@ void earliest_arrival(const BasicCoarseInput<Cfg>& in, Scalar s0, Scalar ds, int
   std::array<Scalar, kFine<Cfg>> v{};
   for (int j = 0; j < fine; ++j) {  // <= kFine: the speed each point allows
     const Scalar s = s0 + h * static_cast<Scalar>(j);
-    const Scalar kappa = in.kappa_ref != nullptr ? std::fabs(in.kappa_ref->at(s)) : Scalar(0);
-    Scalar lim = in.limits.speed_limit;
-    if (kappa > kKappaFloor) {
-      lim = min_of(lim, std::sqrt(in.limits.a_lat_max / kappa));
-    }
-    v[static_cast<std::size_t>(j)] = lim;
+    const Scalar kappa = in.kappa_ref != nullptr ? in.kappa_ref->at(s) : Scalar(0);
+    v[static_cast<std::size_t>(j)] = curve_speed_limit(in.limits, kappa);
   }
   if (stop_at_end) {
     v[static_cast<std::size_t>(fine - 1)] = 0;

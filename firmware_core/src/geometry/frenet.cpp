@@ -21,6 +21,21 @@ Scalar heading_from_lateral_slope(Scalar l_prime, Scalar ref_heading, Scalar ref
   return wrap_angle(ref_heading + std::atan2(l_prime, Scalar(1) - ref_kappa * l));
 }
 
+CartesianMotion cartesian_motion(const FrenetState& f) {
+  const Scalar q = Scalar(1) - f.ref_kappa * f.l;
+  const Scalar q_s = -(f.ref_dkappa * f.l + f.ref_kappa * f.dl);
+  const Scalar g2 = q * q + f.dl * f.dl;
+  const Scalar g = std::sqrt(g2);
+  const Scalar g_s = (q * q_s + f.dl * f.ddl) / g;
+  CartesianMotion m;
+  m.relative_heading = std::atan2(f.dl, q);
+  m.kappa = (f.ref_kappa + (q * f.ddl - f.dl * q_s) / g2) / g;
+  m.v = f.ds * g;
+  m.a = f.dds * g + f.ds * f.ds * g_s;
+  m.scale = g;
+  return m;
+}
+
 template <class Cfg>
 SLBox sl_bounding_box(const BasicReferenceLine<Cfg>& line, const OrientedBox& box, Scalar margin) {
   const Point2 along{std::cos(box.heading), std::sin(box.heading)};

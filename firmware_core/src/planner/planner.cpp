@@ -5,19 +5,28 @@
 #include "itp/collision/oriented_box.hpp"
 #include "itp/configurations.hpp"
 #include "itp/decision/corridor.hpp"
+#include "itp/geometry/angle.hpp"
 #include "itp/geometry/frenet.hpp"
+#include "itp/planner/road_prediction.hpp"
 #include "itp/scene/obstacle_motion.hpp"
 #include "itp/scene/validation.hpp"
 
 namespace itp::planner {
 namespace {
 
-constexpr Scalar kMinPathLength = Scalar(20);     // [m] shorter horizon: stop
 constexpr Scalar kPreviousPlanMaxAge = Scalar(1);  // [s] older plans are not stitched
 constexpr int kMaxPathAttempts = 4;                // decisions tried by the path QP per iteration
 constexpr Scalar kFallbackPathAge = Scalar(1);    // [s] a fallback brakes along the last ok plan this long
 constexpr Scalar kOncomingHeading =
     Scalar(1.5707963267948966);  // [rad] |heading - reference| beyond: oncoming
+// A mover heading across the road (45..135 deg from the reference) at walking
+// pace or more crosses the path: the ego yields to it in the ST graph. Its box
+// at the meeting time is a snapshot of something that moves sideways, so a
+// lateral decision around it means nothing, and its sweep covers the road.
+constexpr Scalar kCrossingHeadingLow = Scalar(0.7853981633974483);   // [rad]
+constexpr Scalar kCrossingHeadingHigh = Scalar(2.356194490192345);   // [rad]
+constexpr Scalar kCrossingMinSpeed = Scalar(0.5);                    // [m/s]
+constexpr Scalar kEverywhere = Scalar(1e9);                          // [m] an s-range without bounds
 
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
@@ -38,16 +47,6 @@ decision::BasicLateralProfile<Cfg> to_profile(const scene::BasicBoundary<Cfg>& b
 
 collision::OrientedBox obstacle_box(Scalar x, Scalar y, Scalar heading, Scalar length, Scalar width) {
   return collision::OrientedBox{x, y, heading, length, width};
-}
-
-// Curvature of a path given in Frenet terms (l, l', l'') over a reference with
-// curvature κ_r (its derivative neglected).
-Scalar cartesian_kappa(Scalar l, Scalar dl, Scalar ddl, Scalar kr) {
-  const Scalar one = Scalar(1) - kr * l;
-  const Scalar dtheta = std::atan2(dl, one);
-  const Scalar c = std::cos(dtheta);
-  const Scalar tn = std::tan(dtheta);
-  return ((ddl + kr * dl * tn) * c * c / one + kr) * c / one;
 }
 
 // SL box of a moving obstacle from one projection of its centre: the box's
@@ -116,9 +115,16 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
   front_ = ego.geometry.length - rear_;
   const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{ego.state.x, ego.state.y});
   s_start_ = f.s;
-  length_ = min_of(Cfg::kPathLength, reference_.length() - f.s);
-  if (length_ < kMinPathLength) {
-    return false;  // caller falls back: the map ends too close ahead
+  // The SL horizon covers where the speed horizon can take the ego, so that
+  // no trajectory sample runs past the planned path (and past obstacles the
+  // convex space never saw). It may reach beyond the end of the map (the
+  // frame continues straight there); the speed plan stops before that end.
+  const Scalar v_plan = max_of(max_of(ego.state.v, Scalar(0)), scene.road.speed_limit);
+  length_ = clamp(v_plan * Cfg::kSpeedHorizon + front_ + settings_.stop_margin, Cfg::kPathLength,
+                  Cfg::kMaxPathLength);
+  map_end_ = reference_.length();
+  if (map_end_ - f.s < rear_) {
+    return false;  // caller falls back: the ego is at or past the end of the map
   }
   kappa_.s0 = s_start_;
   kappa_.ds = length_ / static_cast<Scalar>(Cfg::kCurvatureSamples - 1);
@@ -157,11 +163,14 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
     DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_++)];
     tr.id = o.id;
     tr.sweep_occupied = false;
+    tr.crossing = false;
     bool seen = false;
     bool on_road = false;  // first seen on the road: its prediction stays there
+    std::array<scene::ObstacleSample, Cfg::kStSamples>& motion = motion_[static_cast<std::size_t>(track_count_ - 1)];
+    static_cast<void>(predict_along_road(reference_, road_, o, now, kDt, motion));
     for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
       const auto u = static_cast<std::size_t>(k);
-      const scene::ObstacleSample p = scene::sample_pose(o, now + kDt * static_cast<Scalar>(k));
+      const scene::ObstacleSample& p = motion[u];
       tr.present[u] = p.present;
       if (!p.present) {
         continue;
@@ -173,7 +182,9 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
         const Scalar rel = geometry::relative_heading(p.heading, reference_.evaluate(s_mid).heading);
         const bool oncoming = std::fabs(rel) > kOncomingHeading;
         const bool from_behind = tr.box[u].s_max < s_start_;
-        tr.sweep_occupied = oncoming || from_behind;
+        tr.crossing = std::fabs(rel) > kCrossingHeadingLow && std::fabs(rel) < kCrossingHeadingHigh &&
+                      std::fabs(p.v) >= kCrossingMinSpeed;
+        tr.sweep_occupied = !tr.crossing && (oncoming || from_behind);
         const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
@@ -209,7 +220,7 @@ int BasicPlanner<Cfg>::place_dynamic(const std::array<Scalar, Cfg::kStSamples>& 
   int placed = 0;
   for (int i = 0; i < track_count_; ++i) {  // <= kMaxDynamicObstacles
     const DynamicTrack& tr = tracks_[static_cast<std::size_t>(i)];
-    if (skip[i]) {
+    if (skip[i] || tr.crossing) {
       continue;
     }
     int meet = -1;
@@ -390,44 +401,55 @@ void BasicPlanner<Cfg>::sample_trajectory(const Start& start, Plan& out) const {
   out.trajectory.clear();
   for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
     const Scalar t = kDt * static_cast<Scalar>(k);
-    const Scalar s = min_of(start.s + speed_.eval(t, 0), reference_.length());
-    const Scalar ds = speed_.eval(t, 1);
-    const Scalar dds = speed_.eval(t, 2);
-    const Scalar l = path_.eval(s, 0);
-    const Scalar dl = path_.eval(s, 1);
-    const Scalar ddl = path_.eval(s, 2);
+    const Scalar s = start.s + speed_.eval(t, 0);
     const geometry::CurveSample r = reference_.evaluate(s);
-    const Scalar one = Scalar(1) - r.kappa * l;
-    const Scalar dtheta = std::atan2(dl, one);
+    geometry::FrenetState f;
+    f.ds = max_of(speed_.eval(t, 1), Scalar(0));
+    f.dds = speed_.eval(t, 2);
+    f.l = path_.eval(s, 0);
+    f.dl = path_.eval(s, 1);
+    f.ddl = path_.eval(s, 2);
+    f.ref_kappa = r.kappa;
+    f.ref_dkappa = r.dkappa;
+    const geometry::CartesianMotion m = geometry::cartesian_motion(f);
     TrajectoryPoint p;
     p.t = t;
     p.s = s;
-    p.l = l;
-    p.x = r.position.x - l * std::sin(r.heading);
-    p.y = r.position.y + l * std::cos(r.heading);
-    p.heading = geometry::heading_from_lateral_slope(dl, r.heading, r.kappa, l);
-    p.kappa = cartesian_kappa(l, dl, ddl, r.kappa);
-    p.v = max_of(ds, Scalar(0)) * one / std::cos(dtheta);
-    p.a = dds * one / std::cos(dtheta);
+    p.l = f.l;
+    p.x = r.position.x - f.l * std::sin(r.heading);
+    p.y = r.position.y + f.l * std::cos(r.heading);
+    p.heading = geometry::wrap_angle(r.heading + m.relative_heading);
+    p.kappa = m.kappa;
+    p.v = m.v;
+    p.a = m.a;
     static_cast<void>(out.trajectory.push_back(p));
   }
 }
 
-// Index of the first trajectory sample whose footprint overlaps an obstacle; -1: none.
+// Index of the first trajectory sample whose footprint overlaps an obstacle
+// (its id in `*hit_id` when given); -1: none.
 template <class Cfg>
-int BasicPlanner<Cfg>::first_collision(const Scene& scene, Scalar now, const Plan& plan) const {
+int BasicPlanner<Cfg>::first_collision(const Scene& scene, const Plan& plan,
+                                       std::int32_t* hit_id) const {
   const scene::VehicleGeometry& g = scene.ego.geometry;
   for (std::size_t k = 0; k < plan.trajectory.size(); ++k) {  // kTrajectorySamples
     const TrajectoryPoint& p = plan.trajectory[k];
     const collision::OrientedBox ego = collision::box_from_rear_axle(p.x, p.y, p.heading, g.length, g.width, rear_);
     for (const scene::StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
       if (collision::overlap(ego, obstacle_box(o.x, o.y, o.heading, o.length, o.width))) {
+        if (hit_id != nullptr) {
+          *hit_id = o.id;
+        }
         return static_cast<int>(k);
       }
     }
-    for (const DynamicObstacle& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
-      const scene::ObstacleSample q = scene::sample_pose(o, now + p.t);
+    for (std::size_t i = 0; i < scene.dynamic_obstacles.size(); ++i) {  // <= kMaxDynamicObstacles
+      const DynamicObstacle& o = scene.dynamic_obstacles[i];
+      const scene::ObstacleSample& q = motion_[i][k];  // the motion planned against, at p.t
       if (q.present && collision::overlap(ego, obstacle_box(q.x, q.y, q.heading, o.length, o.width))) {
+        if (hit_id != nullptr) {
+          *hit_id = o.id;
+        }
         return static_cast<int>(k);
       }
     }
@@ -571,7 +593,7 @@ void BasicPlanner<Cfg>::fallback(const Scene* scene, Scalar now, FallbackReason 
     if (!have_state || out.status == PlanStatus::kInvalidInput || attempt == 2) {
       break;
     }
-    const int hit = first_collision(*scene, now, out);
+    const int hit = first_collision(*scene, out, nullptr);
     if (hit < 0 || (attempt == 1 && hit >= comfortable_hit)) {
       break;
     }
@@ -611,17 +633,16 @@ bool BasicPlanner<Cfg>::known_infeasible(std::uint64_t corridor) const {
   return false;
 }
 
-// The track of the nearest moving obstacle whose SL box is in play (all, or
-// only those where the best corridor ends at `reach`), not yet left out; -1: none.
+// The track of the nearest moving obstacle whose SL box overlaps [s_lo, s_hi]
+// in s and that is not yet left out; -1: none.
 template <class Cfg>
-int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only,
-                                       Scalar reach) const {
+int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo,
+                                       Scalar s_hi) const {
   int found = -1;
   Scalar nearest = Scalar(0);
   for (std::size_t i = n_static; i < boxes_.size(); ++i) {  // <= kMaxDynamicObstacles
     const decision::SlBox& b = boxes_[i];
-    const bool at_reach = b.s_min <= reach + Scalar(0.5) && b.s_max >= reach;
-    if ((at_reach_only && !at_reach) || (found >= 0 && b.s_min >= nearest)) {
+    if (b.s_max < s_lo || b.s_min > s_hi || (found >= 0 && b.s_min >= nearest)) {
       continue;
     }
     for (int j = 0; j < track_count_; ++j) {  // <= kMaxDynamicObstacles
@@ -632,6 +653,25 @@ int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, b
     }
   }
   return found;
+}
+
+// Path s the ego's front bumper must stop before: the end of a blocked
+// corridor (`reach`, a rear-axle position) or the end of the map, less the
+// stop margin.
+template <class Cfg>
+Scalar BasicPlanner<Cfg>::stop_before(Scalar reach) const {
+  return min_of(reach + front_, map_end_) - settings_.stop_margin;
+}
+
+// End of the slice that begins where a blocked corridor ends (`reach`).
+template <class Cfg>
+Scalar BasicPlanner<Cfg>::blocking_slice_end(Scalar reach) const {
+  for (const decision::Slice& sl : decision_.space().slices) {  // <= kMaxSlices
+    if (sl.s_begin >= reach) {
+      return sl.s_end;
+    }
+  }
+  return reach;
 }
 
 // Decision (1.1) and path QP (1.2). A moving obstacle is not a wall: when it
@@ -672,13 +712,16 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
     int drop = -1;
     why = FallbackReason::kNoDecision;
     if (ds == decision::DecisionStatus::kNoDecision || decision_.best() < 0) {
-      drop = nearest_dynamic(n_static, skip, false, Scalar(0));
+      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere);
       if (drop < 0) {
         return FallbackReason::kNoDecision;
       }
     } else if (ds == decision::DecisionStatus::kBlocked) {
-      const Scalar reach = decision_.decisions().kept[static_cast<std::size_t>(decision_.best())].reach;
-      drop = nearest_dynamic(n_static, skip, true, reach);  // none: blocked by static obstacles, a real stop
+      // The best corridor ends where the next slice has no zone it links to:
+      // a moving obstacle in that slice is left to the ST graph; none there
+      // means static obstacles block the road (a real stop).
+      const Decision& best = decision_.decisions().kept[static_cast<std::size_t>(decision_.best())];
+      drop = nearest_dynamic(n_static, skip, best.reach, blocking_slice_end(best.reach));
     }
     if (drop < 0) {
       t0 = ticks_.ticks();
@@ -713,7 +756,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
       if (chosen_ >= 0) {
         return FallbackReason::kNone;
       }
-      drop = nearest_dynamic(n_static, skip, false, Scalar(0));
+      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere);
       if (drop < 0 || path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
         return FallbackReason::kPathQpFailed;
       }
@@ -736,6 +779,8 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
   stp.half_width = Scalar(0.5) * scene.ego.geometry.width;
   stp.limits = limits_;
   stp.kappa_ref = &kappa_;
+  stp.stop_s = stop_before(kEverywhere);
+  stp.path_end = start.s + length_;
   speed::reference_profile(stp, Cfg::kSpeedHorizon, s_guess, v_guess);  // step 0
 
   decision::ConvexSpaceParams cp;
@@ -839,7 +884,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
 
     // 1.3 ST graph and speed QP along the path.
     std::uint64_t t0 = ticks_.ticks();
-    stp.stop_s = blocked_ ? chosen.reach + front_ - settings_.stop_margin : Scalar(-1);
+    stp.stop_s = stop_before(blocked_ ? chosen.reach : kEverywhere);
     st_.build(path_,
               std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
               stp, s_guess, v_guess, bounds_);
@@ -868,7 +913,11 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     // Check with the real footprints, and measure the change from the last step.
     t0 = ticks_.ticks();
     sample_trajectory(start, out);
-    safe = first_collision(scene, now_, out) < 0;
+    std::int32_t hit_id = -1;
+    const int hit = first_collision(scene, out, &hit_id);
+    safe = hit < 0;
+    out.collision_obstacle = hit_id;
+    out.collision_time = safe ? Scalar(-1) : out.trajectory[static_cast<std::size_t>(hit)].t;
     Scalar change_s = 0;
     Scalar change_l = 0;
     Scalar change2_s = 0;

@@ -4,13 +4,13 @@
 #include <limits>
 
 #include "itp/configurations.hpp"
+#include "itp/geometry/frenet.hpp"
 
 namespace itp::speed {
 namespace {
 
 constexpr int kProbes = 12;                      // path probes across an obstacle's s-extent
 constexpr int kReachProbes = 24;                 // conservative retry: positions probed per sample
-constexpr Scalar kKappaFloor = Scalar(1e-4);     // [1/m]
 constexpr Scalar kMovingAlong = Scalar(0.5);     // [m/s] slower is not "moving along the path"
 template <class Cfg>
 constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);  // [s]
@@ -21,18 +21,22 @@ constexpr Scalar kOnLimit = Scalar(1e-6);
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
 
-// Speed allowed at path s: the road limit and lateral acceleration on the
-// path's curvature (κ_ref + l'', the small-angle curvature of the path).
+// The bound on s' (the rate of the reference's arc length) at path s: the
+// road's limit and the lateral acceleration on the path's exact curvature,
+// both on the world speed v = s' g (geometry::cartesian_motion).
 template <class Cfg>
 Scalar speed_limit_at(const path::BasicPathResult<Cfg>& path, const BasicStParams<Cfg>& p,
                       Scalar s) {
-  const Scalar kref = p.kappa_ref != nullptr ? p.kappa_ref->at(s) : Scalar(0);
-  const Scalar kappa = std::fabs(kref + path.eval(s, 2));
-  Scalar v = p.limits.speed_limit;
-  if (kappa > kKappaFloor) {
-    v = min_of(v, std::sqrt(p.limits.a_lat_max / kappa));
+  geometry::FrenetState f;
+  f.l = path.eval(s, 0);
+  f.dl = path.eval(s, 1);
+  f.ddl = path.eval(s, 2);
+  if (p.kappa_ref != nullptr) {
+    f.ref_kappa = p.kappa_ref->at(s);
+    f.ref_dkappa = p.kappa_ref->slope(s);
   }
-  return v;
+  const geometry::CartesianMotion m = geometry::cartesian_motion(f);
+  return decision::curve_speed_limit(p.limits, m.kappa) / m.scale;
 }
 
 // Bounds of l(s) in each block of the path: its quintic's Bernstein
@@ -215,11 +219,8 @@ void reference_profile(const BasicStParams<Cfg>& p, Scalar horizon,
   Scalar s = 0;
   Scalar v = max_of(p.v0, Scalar(0));
   for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
-    const Scalar kref = p.kappa_ref != nullptr ? std::fabs(p.kappa_ref->at(p.s0 + s)) : Scalar(0);
-    Scalar lim = p.limits.speed_limit;
-    if (kref > kKappaFloor) {
-      lim = min_of(lim, std::sqrt(p.limits.a_lat_max / kref));
-    }
+    const Scalar lim = decision::curve_speed_limit(
+        p.limits, p.kappa_ref != nullptr ? p.kappa_ref->at(p.s0 + s) : Scalar(0));
     s_ref[static_cast<std::size_t>(k)] = s;
     v_ref[static_cast<std::size_t>(k)] = v;
     const Scalar v_next = v < lim ? min_of(lim, v + p.limits.a_max * dt) : max_of(lim, v + p.limits.a_min * dt);
@@ -261,10 +262,23 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
   for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
     b.s_ref[static_cast<std::size_t>(k)] = s_ref[static_cast<std::size_t>(k)];
   }
-  // A blocked corridor: the front bumper stays before stop_s.
-  if (p.stop_s >= 0) {
+  if (p.path_end >= 0) {
     for (auto& s : b.s_hi) {  // Cfg::kStSamples
-      s = min_of(s, p.stop_s - p.s0 - p.front);
+      s = min_of(s, p.path_end - p.s0 - p.front);
+    }
+  }
+  // The front bumper stays before stop_s (a blocked corridor, the map's end).
+  // And it can still stop there: the speed at a guessed position is at most
+  // what braking at a_min takes back over the room left (as for a follow).
+  if (p.stop_s >= 0) {
+    const Scalar limit = p.stop_s - p.s0 - p.front;
+    for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      b.s_hi[u] = min_of(b.s_hi[u], limit);
+      if (s_guess[u] <= limit + kOnLimit) {
+        const Scalar room = max_of(limit - s_guess[u], Scalar(0));
+        b.v_hi[u] = min_of(b.v_hi[u], std::sqrt(Scalar(-2) * p.limits.a_min * room));
+      }
     }
   }
   for (const DynamicTrack& tr : tracks) {  // <= kMaxDynamicObstacles

@@ -30,6 +30,8 @@ struct BasicCurvatureProfile {
     return kappa[static_cast<std::size_t>(i)] * (Scalar(1) - f) +
            kappa[static_cast<std::size_t>(i + 1)] * f;
   }
+  // d kappa / ds [1/m^2]: central difference over one spacing.
+  Scalar slope(Scalar s) const { return (at(s + ds) - at(s - ds)) / (Scalar(2) * ds); }
 };
 
 using CurvatureProfile = BasicCurvatureProfile<DefaultConfig>;

@@ -20,6 +20,35 @@ Scalar heading_from_lateral_slope(Scalar l_prime, Scalar ref_heading, Scalar ref
 // Heading relative to the reference, wrapped to (-pi, pi] [rad].
 Scalar relative_heading(Scalar heading, Scalar ref_heading);
 
+// The motion of a point that follows the Frenet path l(s) at s(t), in world
+// terms. With the reference's tangent T, left normal N (T' = kappa N,
+// N' = -kappa T) and q = 1 - kappa l, the point r = c(s) + l N has
+//   dr/ds = q T + l' N,  |dr/ds| = g = sqrt(q^2 + l'^2),
+// so v = s' g and a = dv/dt = s'' g + s'^2 g_s with
+//   g_s = (q q_s + l' l'') / g,  q_s = -(kappa' l + kappa l'),
+// its heading is ref_heading + atan2(l', q), and its curvature
+//   kappa_c = (kappa + (q l'' - l' q_s) / g^2) / g.
+struct FrenetState {
+  Scalar ds = 0;          // [m/s] s' = ds/dt
+  Scalar dds = 0;         // [m/s^2] s'' = d2s/dt2
+  Scalar l = 0;           // [m]
+  Scalar dl = 0;          // [-] l' = dl/ds
+  Scalar ddl = 0;         // [1/m] l'' = d2l/ds2
+  Scalar ref_kappa = 0;   // [1/m] of the reference at s
+  Scalar ref_dkappa = 0;  // [1/m^2] its derivative along s
+};
+
+struct CartesianMotion {
+  Scalar relative_heading = 0;  // [rad] heading - ref_heading = atan2(l', q)
+  Scalar kappa = 0;             // [1/m] curvature of the point's path
+  Scalar v = 0;                 // [m/s] speed (s' g, signed as s')
+  Scalar a = 0;                 // [m/s^2] dv/dt
+  Scalar scale = 1;             // [-] g = |dr/ds|: world distance per metre of s
+};
+
+// Meaningful for q = 1 - kappa l > 0 (the point inside the reference's radius).
+CartesianMotion cartesian_motion(const FrenetState& f);
+
 // A rectangle in the world frame.
 struct OrientedBox {
   Point2 center;                  // [m] box centre

@@ -71,6 +71,10 @@ struct BasicPlan {
   // Counts for reports: QP solves and their active-set iterations this cycle.
   int qp_solves = 0;
   int qp_iterations = 0;
+  // FallbackReason::kCollision: the obstacle the last optimised trajectory
+  // met first, and when (plan time); -1 / < 0 otherwise.
+  std::int32_t collision_obstacle = -1;
+  Scalar collision_time = -1;  // [s]
 };
 
 using Plan = BasicPlan<DefaultConfig>;

@@ -12,6 +12,7 @@
 #include "itp/geometry/reference_line.hpp"
 #include "itp/path/path_optimizer.hpp"
 #include "itp/planner/plan.hpp"
+#include "itp/scene/obstacle_motion.hpp"
 #include "itp/scene/scene.hpp"
 #include "itp/speed/speed_optimizer.hpp"
 #include "itp/speed/st_graph.hpp"
@@ -130,13 +131,15 @@ class BasicPlanner {
   int place_dynamic(const StSamples& s_guess, bool* skip);
   std::uint64_t corridor_signature(const Decision& d, const PathInput& pi) const;
   bool known_infeasible(std::uint64_t corridor) const;
-  int nearest_dynamic(std::size_t n_static, const bool* skip, bool at_reach_only, Scalar reach) const;
+  int nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo, Scalar s_hi) const;
+  Scalar blocking_slice_end(Scalar reach) const;
+  Scalar stop_before(Scalar reach) const;
   FallbackReason decide_path(const StSamples& s_guess, std::size_t n_static,
                              const decision::ConvexSpaceParams& cp, const CoarseInput& ci,
                              PathInput& pi, Plan& out);
   bool iterate(const Scene& scene, const Start& start, Plan& out);
   void sample_trajectory(const Start& start, Plan& out) const;
-  int first_collision(const Scene& scene, Scalar now, const Plan& plan) const;
+  int first_collision(const Scene& scene, const Plan& plan, std::int32_t* hit_id) const;
   void fallback(const Scene* scene, Scalar now, FallbackReason reason, Plan& out);
   void record_decisions(Plan& out) const;
   int rank_decisions(std::array<int, Cfg::kKeptDecisions>& order) const;
@@ -157,12 +160,16 @@ class BasicPlanner {
   Scalar lane_target_ = 0;  // [m] target lane centre
   Scalar s_start_ = 0;   // [m] path start (the ego's s)
   Scalar length_ = 0;    // [m] path length this cycle
+  Scalar map_end_ = 0;   // [m] path s where the reference line (the map) ends
   Scalar front_ = 0;     // [m] rear axle to front bumper
   Scalar rear_ = 0;      // [m] rear overhang
 
   // Obstacles in SL: static boxes, then the dynamic ones at their meeting time.
   StaticVector<decision::SlBox, Cfg::kMaxObstacles> boxes_;
   std::array<DynamicTrack, Cfg::kMaxDynamicObstacles> tracks_{};
+  // Each dynamic obstacle's motion at the ST samples, as planned against
+  // (road_prediction.hpp); the collision check uses it too.
+  std::array<std::array<scene::ObstacleSample, Cfg::kStSamples>, Cfg::kMaxDynamicObstacles> motion_{};
   int track_count_ = 0;
 
   DecisionStage decision_{};

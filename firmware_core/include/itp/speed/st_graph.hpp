@@ -30,6 +30,9 @@ struct BasicDynamicTrack {
   // Oncoming, or first seen behind the ego: the path treats everything it
   // covers over the horizon as occupied (planner, place_dynamic).
   bool sweep_occupied = false;
+  // Crossing the road (or its sweep leaves no passage): never a wall in the
+  // convex space, only the ST graph's (yield); planner, project_obstacles.
+  bool crossing = false;
 };
 
 enum class Longitudinal : std::uint8_t {
@@ -65,7 +68,10 @@ struct BasicStParams {
   Scalar longitudinal_margin = Scalar(2.0);  // [m] kept from a conflict zone
   Scalar follow_distance = Scalar(4.0);  // [m] standstill gap when following
   Scalar follow_time_gap = Scalar(1.2);  // [s] extra gap per m/s of the leader
-  Scalar stop_s = -1;  // [m] path s the ego's front must stop before (blocked corridor); < 0: none
+  Scalar stop_s = -1;  // [m] path s the ego's front must stop before (blocked corridor, end of the map); < 0: none
+  // [m] path s the front stays behind: the end of the planned path (the speed
+  // plan never runs past the path it follows; not a wall: no stop needed); < 0: none
+  Scalar path_end = -1;
   decision::VehicleLimits limits;
   // The retry when the speed QP was infeasible: every overtake becomes a yield
   // and the curvature speed limit at t is the lowest over every position the
