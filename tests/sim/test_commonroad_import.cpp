@@ -419,8 +419,10 @@ TEST_CASE("import errors name the element (and its line where it has one)") {
        "goal lanelet 96 does not exist"},
       {x::scenario(road + x::planning_problem(100, 10, 1.75, 0, -3)), {},
        "planningProblem 100: initialState: velocity -3 m/s: driving backwards is not supported"},
-      {x::scenario(x::lanelet(1, 0, 15, 0, 3.5) + x::planning_problem(100, 5, 1.75, 0, 3)), {},
-       "lanelet 1: the route from the ego's lanelet is 15.0 m long; the planner needs 20 m"},
+      {x::scenario("<lanelet id=\"1\"><leftBound>" + x::point(0, 3.5) + x::point(0.8, 3.5) + "</leftBound><rightBound>" +
+                   x::point(0, 0) + x::point(0.8, 0) + "</rightBound></lanelet>\n" + x::planning_problem(100, 0.4, 1.75, 0, 3)),
+       {},
+       "lanelet 1: the route from the ego's lanelet is 0.8 m long; the planner needs 1 m"},
       {x::scenario(pp), {}, "the scenario has no <lanelet>"},
   };
   for (const Case& c : cases) {
