@@ -69,12 +69,11 @@ struct Interval {
   std::int16_t box;
 };
 
-// Free gaps of [road_lo, road_hi] between the boxes overlapping [sa, sb).
+// The l-intervals of the boxes overlapping [sa, sb) and [road_lo, road_hi],
+// sorted by their right edge; returns their count.
 template <class Cfg>
-void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
-                     Scalar road_hi, const ConvexSpaceParams& params, std::int16_t slice_index,
-                     BasicConvexSpace<Cfg>& out) {
-  std::array<Interval, Cfg::kMaxObstacles> blocked{};
+int blocked_intervals(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
+                      Scalar road_hi, std::array<Interval, Cfg::kMaxObstacles>& blocked) {
   int n = 0;
   for (std::size_t i = 0; i < boxes.size(); ++i) {  // <= kMaxObstacles
     const SlBox& b = boxes[i];
@@ -90,6 +89,16 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
     }
     blocked[static_cast<std::size_t>(j + 1)] = v;
   }
+  return n;
+}
+
+// Free gaps of [road_lo, road_hi] between the boxes overlapping [sa, sb).
+template <class Cfg>
+void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
+                     Scalar road_hi, const ConvexSpaceParams& params, std::int16_t slice_index,
+                     BasicConvexSpace<Cfg>& out) {
+  std::array<Interval, Cfg::kMaxObstacles> blocked{};
+  const int n = blocked_intervals<Cfg>(boxes, sa, sb, road_lo, road_hi, blocked);
   Slice slice;
   slice.s_begin = sa;
   slice.s_end = sb;
@@ -182,6 +191,25 @@ const Zone& BasicConvexSpace<Cfg>::successor(const Zone& z, int bit) const {
 }
 
 template <class Cfg>
+Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa,
+                       Scalar sb) {
+  const Scalar road_lo = road.right.max_over(sa, sb);
+  const Scalar road_hi = road.left.min_over(sa, sb);
+  std::array<Interval, Cfg::kMaxObstacles> blocked{};
+  const int n = blocked_intervals<Cfg>(boxes, sa, sb, road_lo, road_hi, blocked);
+  Scalar widest = 0;
+  Scalar cursor = road_lo;
+  for (int i = 0; i <= n; ++i) {  // n + 1 gaps
+    const Scalar hi = i == n ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
+    widest = hi - cursor > widest ? hi - cursor : widest;
+    if (i < n && blocked[static_cast<std::size_t>(i)].hi > cursor) {
+      cursor = blocked[static_cast<std::size_t>(i)].hi;
+    }
+  }
+  return widest;
+}
+
+template <class Cfg>
 ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes,
                                      const ConvexSpaceParams& params, BasicConvexSpace<Cfg>& out) {
   out.slices.clear();
@@ -232,6 +260,7 @@ ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<con
 // Explicit instantiations for every configuration (itp/configurations.hpp).
 #define ITP_INSTANTIATE(C)                                                                        \
   template struct BasicConvexSpace<C>;                                                            \
+  template Scalar widest_free_gap<C>(const BasicRoadSl<C>&, std::span<const SlBox>, Scalar, Scalar); \
   template ConvexSpaceStatus build_convex_space<C>(const BasicRoadSl<C>&, std::span<const SlBox>, \
                                                    const ConvexSpaceParams&,                      \
                                                    BasicConvexSpace<C>&);

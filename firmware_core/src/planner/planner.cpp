@@ -26,7 +26,13 @@ constexpr Scalar kOncomingHeading =
 constexpr Scalar kCrossingHeadingLow = Scalar(0.7853981633974483);   // [rad]
 constexpr Scalar kCrossingHeadingHigh = Scalar(2.356194490192345);   // [rad]
 constexpr Scalar kCrossingMinSpeed = Scalar(0.5);                    // [m/s]
+// A crossing mover (a pedestrian, a cyclist) walks into the path: the ego
+// does not pass before it unless it is this much further away sideways.
+constexpr Scalar kCrossingMargin = Scalar(1.0);                      // [m]
 constexpr Scalar kEverywhere = Scalar(1e9);                          // [m] an s-range without bounds
+// A car alongside in another lane at least this close to the ego's speed
+// (or faster) is treated as coming from behind: its lane ahead is its own.
+constexpr Scalar kAlongsideSpeedSlack = Scalar(1);                   // [m/s]
 
 Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
 Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
@@ -115,6 +121,8 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
   front_ = ego.geometry.length - rear_;
   const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{ego.state.x, ego.state.y});
   s_start_ = f.s;
+  ego_l_ = f.l;
+  ego_v_ = ego.state.v;
   // The SL horizon covers where the speed horizon can take the ego, so that
   // no trajectory sample runs past the planned path (and past obstacles the
   // convex space never saw). It may reach beyond the end of the map (the
@@ -181,14 +189,24 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
         seen = true;
         const Scalar rel = geometry::relative_heading(p.heading, reference_.evaluate(s_mid).heading);
         const bool oncoming = std::fabs(rel) > kOncomingHeading;
-        const bool from_behind = tr.box[u].s_max < s_start_;
+        const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
+        // Approaching from behind, or alongside and not slower, in another
+        // lane: the ego must not move in ahead of it (it would be in its way).
+        // A follower in the ego's own lane is its own business.
+        const bool behind = tr.box[u].s_max < s_start_;
+        const bool alongside = tr.box[u].s_min < s_start_ + front_ &&
+                               p.v * std::cos(rel) >= ego_v_ - kAlongsideSpeedSlack;
+        const bool other_lane = std::fabs(l_mid - ego_l_) > Scalar(0.5) * road_.lane_width;
+        const bool from_behind = (behind || alongside) && other_lane;
         tr.crossing = std::fabs(rel) > kCrossingHeadingLow && std::fabs(rel) < kCrossingHeadingHigh &&
                       std::fabs(p.v) >= kCrossingMinSpeed;
         tr.sweep_occupied = !tr.crossing && (oncoming || from_behind);
-        const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
-      if (on_road) {
+      if (tr.crossing) {
+        tr.box[u].l_min -= kCrossingMargin;
+        tr.box[u].l_max += kCrossingMargin;
+      } else if (on_road) {
         keep_on_road(s_mid, tr.box[u]);
       }
     }
@@ -239,6 +257,10 @@ int BasicPlanner<Cfg>::place_dynamic(const std::array<Scalar, Cfg::kStSamples>& 
     const int k = meet >= 0 ? meet : last;
     if (k < 0 || tr.box[static_cast<std::size_t>(k)].s_max + rear_ < s_start_) {
       continue;  // never present, or only behind the ego
+    }
+    if (meet < 0 && !tr.sweep_occupied &&
+        tr.box[static_cast<std::size_t>(k)].s_max + rear_ < s_start_ + s_guess[static_cast<std::size_t>(k)]) {
+      continue;  // never met, and behind the ego at the end: the ego passed it (the ST graph still sees it)
     }
     decision::SlBox b = tr.box[static_cast<std::size_t>(k)];
     if (tr.sweep_occupied) {
@@ -331,6 +353,31 @@ void BasicPlanner<Cfg>::update_kappa_bound(const std::array<Scalar, Cfg::kStSamp
   }
 }
 
+// The path's curvature bound when the expected-speed one cannot be met: what
+// the ego can still take at the slowest speed it can have at each s,
+// braking at its limit (after the speed spline's 0.3 s onset):
+// min(κ_max, a_lat_max / v_min(s)²). Near the ego that is the expected-speed
+// bound (it cannot slow down at once), so a path never asks for a swerve the
+// speed stage cannot make within the lateral-acceleration limit.
+template <class Cfg>
+void BasicPlanner<Cfg>::update_kappa_reach(Scalar v0) {
+  constexpr Scalar kOnset = Scalar(0.3);  // [s] as the ST graph's braking model
+  kappa_reach_.s0 = kappa_.s0;
+  kappa_reach_.ds = kappa_.ds;
+  const Scalar v = max_of(v0, Scalar(0));
+  const Scalar brake = -limits_.a_min;  // > 0
+  for (int i = 0; i < Cfg::kCurvatureSamples; ++i) {  // Cfg::kCurvatureSamples
+    const Scalar s = kappa_.ds * static_cast<Scalar>(i);
+    const Scalar braked = max_of(s - v * kOnset, Scalar(0));
+    const Scalar v_min = std::sqrt(max_of(v * v - Scalar(2) * brake * braked, Scalar(0)));
+    const Scalar kr = std::fabs(kappa_.kappa[static_cast<std::size_t>(i)]);
+    Scalar kb = v_min > Scalar(1) ? min_of(limits_.kappa_max, limits_.a_lat_max / (v_min * v_min))
+                                  : limits_.kappa_max;
+    kb = max_of(kb, min_of(kr + Scalar(0.002), limits_.kappa_max));
+    kappa_reach_.kappa[static_cast<std::size_t>(i)] = kb;
+  }
+}
+
 // Kept decisions with a usable coarse QP, by decision cost (eq. 4) plus the
 // hysteresis bonus for keeping last cycle's sides; ties keep the geometric rank.
 template <class Cfg>
@@ -368,30 +415,38 @@ int BasicPlanner<Cfg>::rank_decisions(std::array<int, Cfg::kKeptDecisions>& orde
 
 // Frame-to-frame consistency: a decision that passes every obstacle of the
 // previous cycle's plan on the same side as that plan did earns a bonus, so
-// that near-equal alternatives do not flip between cycles.
+// that near-equal alternatives do not flip between cycles. Passing a moving
+// obstacle on the other side than the last plan costs far more: the path
+// would swing across its lane within a second or two (lateral acceleration
+// beyond any limit when tracked), so any decision that keeps those sides is
+// tried first.
 template <class Cfg>
 Scalar BasicPlanner<Cfg>::hysteresis_bonus(int index) const {
-  if (!have_previous_ || previous_.decisions.empty()) {
+  if (!have_previous_ || previous_.decisions.empty() || now_ - previous_time_ > kPreviousPlanMaxAge) {
     return 0;
   }
   const Decision& d = decision_.decisions().kept[static_cast<std::size_t>(index)];
   int compared = 0;
+  bool static_flip = false;
   for (const decision::SlBox& b : boxes_) {  // <= kMaxObstacles
     for (const ObstacleDecision& od : previous_.decisions) {  // <= kMaxObstacles
-      if (od.obstacle != b.obstacle_id || od.lateral == LateralSide::kNone) {
+      if (od.obstacle != b.obstacle_id || od.dynamic != b.dynamic || od.lateral == LateralSide::kNone) {
         continue;
       }
       const decision::Side side = decision::side_of(decision_.space(), d, b);
       const LateralSide now = side == decision::Side::kLeft ? LateralSide::kLeft
                               : side == decision::Side::kRight ? LateralSide::kRight
                                                                : LateralSide::kNone;
-      if (now != od.lateral) {
-        return 0;
+      if (now != od.lateral && now != LateralSide::kNone) {
+        if (b.dynamic) {
+          return -settings_.moving_side_flip_cost;
+        }
+        static_flip = true;
       }
       ++compared;
     }
   }
-  return compared > 0 ? settings_.hysteresis : Scalar(0);
+  return compared > 0 && !static_flip ? settings_.hysteresis : Scalar(0);
 }
 
 // --- Output ----------------------------------------------------------------
@@ -634,10 +689,12 @@ bool BasicPlanner<Cfg>::known_infeasible(std::uint64_t corridor) const {
 }
 
 // The track of the nearest moving obstacle whose SL box overlaps [s_lo, s_hi]
-// in s and that is not yet left out; -1: none.
+// in s and that is not yet left out; -1: none. `sweeps`: also one whose
+// whole sweep is occupied (oncoming, or coming from behind in another lane):
+// the ST graph cannot make the ego wait for those in their lane.
 template <class Cfg>
 int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo,
-                                       Scalar s_hi) const {
+                                       Scalar s_hi, bool sweeps) const {
   int found = -1;
   Scalar nearest = Scalar(0);
   for (std::size_t i = n_static; i < boxes_.size(); ++i) {  // <= kMaxDynamicObstacles
@@ -646,7 +703,8 @@ int BasicPlanner<Cfg>::nearest_dynamic(std::size_t n_static, const bool* skip, S
       continue;
     }
     for (int j = 0; j < track_count_; ++j) {  // <= kMaxDynamicObstacles
-      if (tracks_[static_cast<std::size_t>(j)].id == b.obstacle_id && !skip[j]) {
+      const DynamicTrack& tr = tracks_[static_cast<std::size_t>(j)];
+      if (tr.id == b.obstacle_id && !skip[j] && (sweeps || !tr.sweep_occupied)) {
         found = j;
         nearest = b.s_min;
       }
@@ -712,16 +770,17 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
     int drop = -1;
     why = FallbackReason::kNoDecision;
     if (ds == decision::DecisionStatus::kNoDecision || decision_.best() < 0) {
-      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere);
+      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere, true);
       if (drop < 0) {
         return FallbackReason::kNoDecision;
       }
     } else if (ds == decision::DecisionStatus::kBlocked) {
       // The best corridor ends where the next slice has no zone it links to:
       // a moving obstacle in that slice is left to the ST graph; none there
-      // means static obstacles block the road (a real stop).
+      // means the ego waits (for traffic in its sweep) or static obstacles
+      // block the road (a real stop).
       const Decision& best = decision_.decisions().kept[static_cast<std::size_t>(decision_.best())];
-      drop = nearest_dynamic(n_static, skip, best.reach, blocking_slice_end(best.reach));
+      drop = nearest_dynamic(n_static, skip, best.reach, blocking_slice_end(best.reach), false);
     }
     if (drop < 0) {
       t0 = ticks_.ticks();
@@ -737,7 +796,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
         for (int relax = 0; relax < 2 && chosen_ < 0 && path_solves_ < Cfg::kMaxPathSolvesPerCycle;
              ++relax) {  // expected-speed bound, then steering limit; within the cycle's budget
           ++path_solves_;
-          pi.kappa_bound = relax == 0 ? &kappa_bound_ : nullptr;
+          pi.kappa_bound = relax == 0 ? &kappa_bound_ : &kappa_reach_;
           path_opt_.solve(decision_.space(), d, pi, settings_.path_weights, path_);
           ++out.qp_solves;
           out.qp_iterations += path_.iterations;
@@ -756,7 +815,7 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
       if (chosen_ >= 0) {
         return FallbackReason::kNone;
       }
-      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere);
+      drop = nearest_dynamic(n_static, skip, -kEverywhere, kEverywhere, true);
       if (drop < 0 || path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
         return FallbackReason::kPathQpFailed;
       }
@@ -765,6 +824,25 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
     skip[drop] = true;
   }
   return FallbackReason::kPathQpFailed;
+}
+
+// ST graph and speed QP along path_: with the braking the bounds need
+// (bounds_.a_min), then, if that fails, with the vehicle's limit.
+template <class Cfg>
+void BasicPlanner<Cfg>::plan_speed(const StParams& stp, const StSamples& s_guess,
+                                   const StSamples& v_guess, SpeedInput& si, Plan& out) {
+  st_.build(path_, std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
+            stp, s_guess, v_guess, bounds_);
+  si.a_min = bounds_.a_min;
+  speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+  ++out.qp_solves;
+  out.qp_iterations += speed_.iterations;
+  if (!qp::is_usable(speed_.status) && bounds_.a_min > limits_.a_min) {
+    si.a_min = limits_.a_min;
+    speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+    ++out.qp_solves;
+    out.qp_iterations += speed_.iterations;
+  }
 }
 
 template <class Cfg>
@@ -778,9 +856,11 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
   stp.rear = rear_;
   stp.half_width = Scalar(0.5) * scene.ego.geometry.width;
   stp.limits = limits_;
+  stp.comfort_decel = settings_.comfort_decel;
   stp.kappa_ref = &kappa_;
   stp.stop_s = stop_before(kEverywhere);
   stp.path_end = start.s + length_;
+  update_kappa_reach(start.v);
   speed::reference_profile(stp, Cfg::kSpeedHorizon, s_guess, v_guess);  // step 0
 
   decision::ConvexSpaceParams cp;
@@ -854,11 +934,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     for (int b = 0; b < Cfg::kPathBlocks; ++b) {  // kPathBlocks: l(s) = l0 in every block
       path_.coefficients[static_cast<std::size_t>(6 * b)] = start.l;
     }
-    st_.build(path_, std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
-              stp, s_guess, v_guess, bounds_);
-    speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
-    ++out.qp_solves;
-    out.qp_iterations += speed_.iterations;
+    plan_speed(stp, s_guess, v_guess, si, out);
     if (qp::is_usable(speed_.status)) {
       for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
         const auto u = static_cast<std::size_t>(k);
@@ -881,28 +957,25 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     }
     const Decision& chosen = decision_.decisions().kept[static_cast<std::size_t>(chosen_)];
     blocked_ = !chosen.reaches_end;
+    // Blocked by static obstacles alone (a stop, reported as a fallback), or
+    // waiting for moving traffic that will clear (an ok plan).
+    blocked_by_statics_ =
+        blocked_ && decision::widest_free_gap(road_, boxes_.span().first(n_static), chosen.reach,
+                                              blocking_slice_end(chosen.reach)) <
+                        scene.ego.geometry.width;
 
-    // 1.3 ST graph and speed QP along the path.
+    // 1.3 ST graph and speed QP along the path. A stop before static
+    // obstacles is a fallback: it brakes only, never speeds up on the way.
+    si.a_max = blocked_by_statics_ ? Scalar(0) : limits_.a_max;
     std::uint64_t t0 = ticks_.ticks();
     stp.stop_s = stop_before(blocked_ ? chosen.reach : kEverywhere);
-    st_.build(path_,
-              std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
-              stp, s_guess, v_guess, bounds_);
-    speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
-    ++out.qp_solves;
-    out.qp_iterations += speed_.iterations;
+    plan_speed(stp, s_guess, v_guess, si, out);
     if (!qp::is_usable(speed_.status)) {
       // Retry once conservatively: yield instead of overtaking, and the
       // curvature speed limit over every reachable position.
       stp.conservative = true;
-      st_.build(
-          path_,
-          std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
-          stp, s_guess, v_guess, bounds_);
-      speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+      plan_speed(stp, s_guess, v_guess, si, out);
       stp.conservative = false;
-      ++out.qp_solves;
-      out.qp_iterations += speed_.iterations;
     }
     out.timing.speed += ticks_.ticks() - t0;
     if (!qp::is_usable(speed_.status)) {
@@ -959,7 +1032,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
     return false;
   }
   record_decisions(out);
-  if (blocked_) {
+  if (blocked_by_statics_) {
     // No corridor passes the static obstacles: the optimised trajectory is a
     // stop before them, reported as a fallback.
     out.status = PlanStatus::kFallback;

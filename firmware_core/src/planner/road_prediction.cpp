@@ -72,7 +72,10 @@ PredictionUse predict_along_road(const geometry::BasicReferenceLine<Cfg>& line,
   const bool along = std::fabs(rel0) <= kAlongHeading || std::fabs(rel0) >= kOncomingHeading;
   const Scalar right = road.right.at(f0.s);
   const Scalar left = road.left.at(f0.s);
-  const bool on_road = f0.l > right - kOffRoad && f0.l < left + kOffRoad;
+  // Beyond the ends of the reference line the frame runs straight on, not
+  // along the road: no road to follow there.
+  const bool on_road = f0.l > right - kOffRoad && f0.l < left + kOffRoad && f0.s >= 0 &&
+                       f0.s <= line.length();
   if (!along || !on_road || std::fabs(p0.v) < kMovingSpeed) {
     return PredictionUse::kAsGiven;
   }

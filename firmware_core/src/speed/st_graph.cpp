@@ -130,6 +130,45 @@ Scalar braking_distance(Scalar v0, Scalar a_min, Scalar t) {
   return v0 * kBrakeOnset + v0 * tt + Scalar(0.5) * a_min * tt * tt;
 }
 
+// The braking the plan may use: comfortable when braking at comfort_decel
+// (after kBrakeOnset) keeps every upper bound, else the least constant
+// deceleration that does (bisection), with a margin for the spline's
+// smoothness, at most the vehicle's limit. Without it the cost's pull
+// towards s_up braked late at the vehicle's limit where less would do.
+template <class Cfg>
+Scalar braking_allowed(const BasicStParams<Cfg>& p, const BasicSpeedBounds<Cfg>& b) {
+  constexpr int kBisections = 24;
+  constexpr Scalar kMargin = Scalar(1.2);       // x the least deceleration
+  constexpr Scalar kExtra = Scalar(0.3);        // [m/s^2] and this much more
+  constexpr Scalar kTolerance = Scalar(0.005);  // [m]
+  const Scalar v0 = max_of(p.v0, Scalar(0));
+  const auto keeps_bounds = [&](Scalar decel) {  // decel < 0
+    for (int k = 1; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
+      const Scalar t = kDt<Cfg> * static_cast<Scalar>(k);
+      if (braking_distance(v0, decel, t) > b.s_hi[static_cast<std::size_t>(k)] + kTolerance) {
+        return false;
+      }
+    }
+    return true;
+  };
+  const Scalar hard = p.limits.a_min;
+  const Scalar comfort = max_of(p.comfort_decel, hard);
+  if (keeps_bounds(comfort)) {
+    return comfort;
+  }
+  Scalar lo = comfort;  // too gentle
+  Scalar hi = hard;     // enough (the bounds were floored at it)
+  for (int i = 0; i < kBisections; ++i) {  // kBisections
+    const Scalar mid = Scalar(0.5) * (lo + hi);
+    if (keeps_bounds(mid)) {
+      hi = mid;
+    } else {
+      lo = mid;
+    }
+  }
+  return max_of(hard, hi * kMargin - kExtra);
+}
+
 // Picks the decision from where the ego is expected to be (s_guess, v_guess)
 // when the obstacle first meets the swept path (t1).
 template <class Cfg>
@@ -148,9 +187,11 @@ void classify(BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
     d.decision = d.speed[u1] > v_guess[u1] ? Longitudinal::kIgnore : Longitudinal::kOvertake;
     return;
   }
+  // A leader moving along the path is followed at a safe gap for as long as
+  // it is on the path (also when the path leaves it later: a yield would
+  // tail it 2 m behind until then).
   const bool moving_along = d.speed[u1] > kMovingAlong;
-  const bool lasts = d.k2 == Cfg::kStSamples - 1;
-  if (moving_along && lasts && d.s_lo[u1] > 0) {
+  if (moving_along && d.s_lo[u1] > 0) {
     d.decision = Longitudinal::kFollow;
     return;
   }
@@ -160,10 +201,30 @@ void classify(BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
   d.decision = d.s_lo[u1] >= brake || ego <= d.s_lo[u1] ? Longitudinal::kYield : Longitudinal::kOvertake;
 }
 
+// The gap a follow keeps at sample u (front bumper to the leader's SL box):
+// the desired time gap, and never less than RSS's safe distance at the
+// guessed speed. When the gap is already short where the leader enters the
+// path (t1: a cut-in), the desired one is reached at gap_recovery_rate, so
+// the ego eases off instead of braking at its limit to restore it at once.
+template <class Cfg>
+Scalar follow_gap(const BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
+                  const std::array<Scalar, Cfg::kStSamples>& s_guess,
+                  const std::array<Scalar, Cfg::kStSamples>& v_guess, int k) {
+  const auto u = static_cast<std::size_t>(k);
+  const Scalar v_obj = max_of(d.speed[u], Scalar(0));
+  const Scalar safe = p.rss.distance(max_of(v_guess[u], Scalar(0)), v_obj);
+  const Scalar desired = max_of(p.follow_distance + p.follow_time_gap * v_obj, safe);
+  const auto u1 = static_cast<std::size_t>(d.k1);
+  const Scalar gap1 = d.s_lo[u1] + p.longitudinal_margin - s_guess[u1];  // where it enters
+  const Scalar recovered = gap1 + p.gap_recovery_rate * kDt<Cfg> * static_cast<Scalar>(k - d.k1);
+  return max_of(safe, min_of(desired, recovered));
+}
+
 // Tightens the speed QP's bounds by one obstacle's decision (eq. 15-17).
 template <class Cfg>
 void apply(const BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
-           const std::array<Scalar, Cfg::kStSamples>& s_guess, BasicSpeedBounds<Cfg>& b) {
+           const std::array<Scalar, Cfg::kStSamples>& s_guess,
+           const std::array<Scalar, Cfg::kStSamples>& v_guess, BasicSpeedBounds<Cfg>& b) {
   for (int k = d.k1; d.decision != Longitudinal::kIgnore && k <= d.k2; ++k) {  // <= Cfg::kStSamples
     const auto u = static_cast<std::size_t>(k);
     if (!d.conflict[u]) {
@@ -177,8 +238,7 @@ void apply(const BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
         // (17): behind by a time gap, and no faster than the leader once the
         // gap is used up; faster only by what braking can still take back.
         const Scalar v_obj = max_of(d.speed[u], Scalar(0));
-        const Scalar gap = p.follow_distance + p.follow_time_gap * v_obj;
-        const Scalar limit = d.s_lo[u] + p.longitudinal_margin - gap;
+        const Scalar limit = d.s_lo[u] + p.longitudinal_margin - follow_gap(d, p, s_guess, v_guess, k);
         b.s_hi[u] = min_of(b.s_hi[u], limit);
         // The speed condition needs a consistent guess (behind the limit);
         // a too optimistic one (step 0) leaves the s bound alone to act.
@@ -323,7 +383,7 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
   // overtake that is not becomes a yield. Two passes over <= kMaxDynamicObstacles.
   for (StDecision& d : decisions_) {
     if (d.decision == Longitudinal::kYield || d.decision == Longitudinal::kFollow) {
-      apply(d, p, s_guess, b);
+      apply(d, p, s_guess, v_guess, b);
     }
   }
   for (StDecision& d : decisions_) {
@@ -340,7 +400,7 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
     if (!feasible) {
       d.decision = Longitudinal::kYield;
     }
-    apply(d, p, s_guess, b);
+    apply(d, p, s_guess, v_guess, b);
   }
   // Never ask for less than full braking can give: keep s_hi reachable (a
   // collision that braking cannot avoid is caught by the collision check).
@@ -354,6 +414,7 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
     b.s_lo[u] = min_of(b.s_lo[u], b.s_hi[u]);
     b.v_hi[u] = max_of(max_of(b.v_hi[u], b.v_lo[u]), v_min + Scalar(0.01));
   }
+  b.a_min = braking_allowed(p, b);
 }
 
 // Explicit instantiations for every configuration (itp/configurations.hpp).

@@ -84,6 +84,12 @@ template <class Cfg>
 ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes,
                                      const ConvexSpaceParams& params, BasicConvexSpace<Cfg>& out);
 
+// The widest free l-interval of the road across [sa, sb] beside the boxes
+// overlapping it (at most Cfg::kMaxObstacles). [m]
+template <class Cfg>
+Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa,
+                       Scalar sb);
+
 using ConvexSpace = BasicConvexSpace<DefaultConfig>;
 
 }  // namespace itp::decision

@@ -33,6 +33,7 @@ struct PlannerSettings {
   Scalar replan_longitudinal = Scalar(1.5);  // [m]
   Scalar replan_speed = Scalar(1.0);     // [m/s]
   Scalar hysteresis = Scalar(0.3);       // decision-cost bonus for keeping last cycle's sides
+  Scalar moving_side_flip_cost = Scalar(100);  // decision cost of passing a moving obstacle on the other side than last cycle
   Scalar blocked_lane_weight = Scalar(1.0);  // [1/m] decision-cost per metre a blocked stop is off the target lane
   decision::DecisionWeights decision_weights{};
   path::PathWeights path_weights{};
@@ -131,13 +132,16 @@ class BasicPlanner {
   int place_dynamic(const StSamples& s_guess, bool* skip);
   std::uint64_t corridor_signature(const Decision& d, const PathInput& pi) const;
   bool known_infeasible(std::uint64_t corridor) const;
-  int nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo, Scalar s_hi) const;
+  int nearest_dynamic(std::size_t n_static, const bool* skip, Scalar s_lo, Scalar s_hi,
+                      bool sweeps) const;
   Scalar blocking_slice_end(Scalar reach) const;
   Scalar stop_before(Scalar reach) const;
   FallbackReason decide_path(const StSamples& s_guess, std::size_t n_static,
                              const decision::ConvexSpaceParams& cp, const CoarseInput& ci,
                              PathInput& pi, Plan& out);
   bool iterate(const Scene& scene, const Start& start, Plan& out);
+  void plan_speed(const StParams& stp, const StSamples& s_guess, const StSamples& v_guess,
+                  SpeedInput& si, Plan& out);
   void sample_trajectory(const Start& start, Plan& out) const;
   int first_collision(const Scene& scene, const Plan& plan, std::int32_t* hit_id) const;
   void fallback(const Scene* scene, Scalar now, FallbackReason reason, Plan& out);
@@ -145,6 +149,7 @@ class BasicPlanner {
   int rank_decisions(std::array<int, Cfg::kKeptDecisions>& order) const;
   Scalar hysteresis_bonus(int index) const;
   void update_kappa_bound(const StSamples& s_guess, const StSamples& v_guess);
+  void update_kappa_reach(Scalar v0);
 
   TickSource ticks_{};
   PlannerSettings settings_{};
@@ -154,11 +159,14 @@ class BasicPlanner {
   ReferenceLine reference_{};
   CurvatureProfile kappa_{};
   CurvatureProfile kappa_bound_{};  // |κ| the path may have at the expected speed
+  CurvatureProfile kappa_reach_{};  // ... at the slowest speed braking can reach there
   RoadSl road_{};
   decision::VehicleLimits limits_{};
   geometry::Point2 origin_{};  // [m] first reference point (s = 0) of the last prepared cycle
   Scalar lane_target_ = 0;  // [m] target lane centre
   Scalar s_start_ = 0;   // [m] path start (the ego's s)
+  Scalar ego_l_ = 0;     // [m] the ego's lateral offset
+  Scalar ego_v_ = 0;     // [m/s] the ego's speed
   Scalar length_ = 0;    // [m] path length this cycle
   Scalar map_end_ = 0;   // [m] path s where the reference line (the map) ends
   Scalar front_ = 0;     // [m] rear axle to front bumper
@@ -184,7 +192,8 @@ class BasicPlanner {
   int path_solves_ = 0;  // path QPs solved this cycle (<= kMaxPathSolvesPerCycle)
   int decision_runs_ = 0;  // decision-stage runs this cycle (<= kMaxDecisionRunsPerCycle)
   int chosen_ = -1;  // decision index in decision_.decisions().kept
-  bool blocked_ = false;  // the chosen corridor ends at static obstacles
+  bool blocked_ = false;  // the chosen corridor ends before the horizon
+  bool blocked_by_statics_ = false;  // ... at static obstacles alone (not waiting for traffic)
 
   // The previous cycle's output, for stitching and fallbacks.
   Plan previous_{};

@@ -36,6 +36,9 @@ struct BasicSpeedBounds {
   std::array<Scalar, Cfg::kStSamples> v_hi{};
   std::array<Scalar, Cfg::kStSamples> s_ref{};  // [m] s_up(t)
   std::array<Scalar, Cfg::kStSamples> v_ref{};  // [m/s] ṡ_expect(t)
+  // [m/s²] the braking the plan may use (< 0): comfortable when that keeps
+  // every bound, else as hard as the bounds need, at most the vehicle's limit.
+  Scalar a_min = Scalar(-3);
 };
 
 template <class Cfg>

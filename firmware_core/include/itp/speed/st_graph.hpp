@@ -57,6 +57,29 @@ struct BasicStDecision {
   std::array<Scalar, Cfg::kStSamples> speed{};  // [m/s] obstacle's speed along the path
 };
 
+// The safe following distance of RSS (Shalev-Shwartz et al., "On a Formal
+// Model of Safe and Scalable Self-driving Cars", 2017): the ego, reacting
+// after `reaction_time` and then braking at `ego_brake`, stops behind a
+// leader that brakes at `leader_brake` at any moment, whatever the
+// prediction says:
+//   d = v_e rho + v_e^2 / (2 b_e) - v_l^2 / (2 b_l) + min_gap.
+// The ego's planning cycle (0.1 s) and the tracking controller's lag are
+// inside rho; b_e is below the vehicle's limit (-6 m/s^2 by default) so that
+// the response is firm, not an emergency; 8 m/s^2 is a car's full braking on
+// a dry road.
+struct RssFollow {
+  Scalar reaction_time = Scalar(0.5);  // [s] rho
+  Scalar ego_brake = Scalar(4.0);      // [m/s^2] b_e > 0
+  Scalar leader_brake = Scalar(8.0);   // [m/s^2] b_l > 0
+  Scalar min_gap = Scalar(2.0);        // [m] left at standstill
+
+  Scalar distance(Scalar v_ego, Scalar v_leader) const {
+    const Scalar d = v_ego * reaction_time + v_ego * v_ego / (Scalar(2) * ego_brake) -
+                     v_leader * v_leader / (Scalar(2) * leader_brake);
+    return (d > 0 ? d : Scalar(0)) + min_gap;
+  }
+};
+
 template <class Cfg>
 struct BasicStParams {
   Scalar s0 = 0;                     // [m] path s of the ego
@@ -68,11 +91,16 @@ struct BasicStParams {
   Scalar longitudinal_margin = Scalar(2.0);  // [m] kept from a conflict zone
   Scalar follow_distance = Scalar(4.0);  // [m] standstill gap when following
   Scalar follow_time_gap = Scalar(1.2);  // [s] extra gap per m/s of the leader
+  // A gap below the desired one (a cut-in) is restored at this rate, not at
+  // once by braking at the limit; never below the safe gap (RssFollow).
+  Scalar gap_recovery_rate = Scalar(2.0);  // [m/s]
+  RssFollow rss{};
   Scalar stop_s = -1;  // [m] path s the ego's front must stop before (blocked corridor, end of the map); < 0: none
   // [m] path s the front stays behind: the end of the planned path (the speed
   // plan never runs past the path it follows; not a wall: no stop needed); < 0: none
   Scalar path_end = -1;
-  decision::VehicleLimits limits;
+  decision::VehicleLimits limits;  // a_min: the vehicle's hard braking limit
+  Scalar comfort_decel = Scalar(-3);  // [m/s^2] braking a plan uses when that is enough
   // The retry when the speed QP was infeasible: every overtake becomes a yield
   // and the curvature speed limit at t is the lowest over every position the
   // ego can reach by t (not just the guessed one).
