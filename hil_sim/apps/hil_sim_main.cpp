@@ -3,7 +3,8 @@
 // link); `ping` boots the firmware (host process or the Cortex-M7 ELF under
 // QEMU), exchanges Ping/Pong, optionally injects garbage and corrupt frames
 // first, and reports what the link counted; `qp-check` compares QP solutions
-// on the host and the firmware; `gen` writes generated scenes.
+// on the host and the firmware; `gen` writes generated scenes; `import` turns
+// a CommonRoad XML scenario into scene/1 (docs/commonroad.md).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <fmt/ranges.h>
@@ -17,6 +18,7 @@
 #include "formats/qp_text.hpp"
 #include "sim/closed_loop.hpp"
 #include "sim/report_compare.hpp"
+#include "sim/scene_files.hpp"
 #include "sim/scene_generator.hpp"
 #include "sim/world.hpp"
 #include "itp/link/messages.hpp"
@@ -224,6 +226,66 @@ int run_gen(const GenOptions& opt) {
   return 0;
 }
 
+struct ImportOptions {
+  std::string file;
+  std::string out;  // "" = stdout
+  hil::sim::CommonRoadOptions commonroad;
+  bool quiet = false;
+};
+
+// CommonRoad XML -> scene/1 JSON (stdout, or --out FILE); notes and the
+// summary go to stderr, so that stdout stays the scene alone.
+int run_import(const ImportOptions& opt) {
+  hil::sim::LoadedScene loaded = hil::sim::load_scene(opt.file, opt.commonroad);
+  if (!loaded) {
+    fmt::print(stderr, "hil_sim import: {}\n", loaded.error);
+    return 2;
+  }
+  if (loaded.kind != hil::sim::SceneFileKind::kCommonRoadXml) {
+    fmt::print(stderr, "hil_sim import: {}: not a CommonRoad XML file (a scene/1 file needs no import)\n", opt.file);
+    return 2;
+  }
+  if (!opt.quiet) {
+    for (const std::string& note : loaded.notes) fmt::print(stderr, "hil_sim import: {}\n", note);
+  }
+  const hil::sim::World& w = *loaded.world;
+  if (opt.out.empty()) {
+    fmt::print("{}\n", hil::sim::scene_to_text(w));
+  } else {
+    const std::string err = hil::sim::save_scene_file(w, opt.out);
+    if (!err.empty()) {
+      fmt::print(stderr, "hil_sim import: {}\n", err);
+      return 2;
+    }
+  }
+  fmt::print(stderr,
+             "hil_sim import: {} -> {}: {} reference points, {} static + {} dynamic obstacles, speed limit {:.2f} m/s, "
+             "duration {:.1f} s\n",
+             opt.file, opt.out.empty() ? std::string("stdout") : opt.out, w.reference_line.size(),
+             w.static_obstacles.size(), w.dynamic_obstacles.size(), w.road.speed_limit, w.duration.value_or(0.0));
+  return 0;
+}
+
+// The CommonRoad import's options, on `import` and on `run` (for XML scenes).
+// On `import` the run length is --duration (also --scenario-duration); on `run`
+// --duration already sets the run length for every scene.
+void add_commonroad_options(CLI::App* cmd, hil::sim::CommonRoadOptions& o, bool on_import) {
+  cmd->add_option("--planning-problem", o.planning_problem,
+                  "CommonRoad: id of the planning problem that gives the ego (default: the first)");
+  cmd->add_flag("--opposite-lanes", o.opposite_lanes,
+                "CommonRoad: the drivable road includes the opposite-direction lanes beside the ego's");
+  cmd->add_option("--speed-limit", o.speed_limit,
+                  "CommonRoad: speed limit [m/s] instead of the route's max-speed signs")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option(on_import ? "--duration,--scenario-duration" : "--scenario-duration", o.duration,
+                  "CommonRoad: run length [s] written into the scene (default: the goal's time interval end or the "
+                  "last obstacle time step, at most 60 s)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--drop-set-based", o.drop_set_based,
+                "CommonRoad: leave obstacles with set-based predictions (occupancySet, phantomObstacle) out "
+                "instead of refusing the file");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -258,10 +320,19 @@ int main(int argc, char** argv) {
   gen_cmd->add_option("--seed", gen.seed, "Generator seed (same seed, same scenes)")->capture_default_str();
   gen_cmd->add_option("--out", gen.out, "Output directory")->capture_default_str();
 
+  ImportOptions imp;
+  auto* import_cmd = app.add_subcommand(
+      "import", "Convert a CommonRoad XML scenario (2020a) into a scene/1 JSON file (docs/commonroad.md)");
+  import_cmd->add_option("file", imp.file, "CommonRoad XML file")->required()->check(CLI::ExistingFile);
+  import_cmd->add_option("--out", imp.out, "Write scene/1 here (default: standard output)");
+  import_cmd->add_flag("--quiet", imp.quiet, "Do not list the import's notes (choices, defaults, content left out)");
+  add_commonroad_options(import_cmd, imp.commonroad, true);
+
   hil::sim::RunCommand run;
   auto* run_cmd = app.add_subcommand("run", "Closed-loop simulation: drive the planner over scenes, report metrics");
-  auto* scene_opt = run_cmd->add_option("--scene", run.scene_files, "scene/1 file(s) to run (instead of a suite)")
-                        ->check(CLI::ExistingFile);
+  auto* scene_opt =
+      run_cmd->add_option("--scene", run.scene_files, "scene/1 JSON or CommonRoad XML file(s) to run (instead of a suite)")
+          ->check(CLI::ExistingFile);
   run_cmd->add_option("--suite", run.suite, "Generated suite")
       ->check(CLI::IsMember({"default"}))
       ->excludes(scene_opt)
@@ -280,6 +351,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--trace", run.trace, "Write one JSON object per cycle (status, reason, ego pose, speed) to this file");
   run_cmd->add_option("--duration", run.duration, "Run length per scene [s] (default: the scene's, else 12)")
       ->check(CLI::PositiveNumber);
+  add_commonroad_options(run_cmd, run.commonroad, false);
 
   std::string compare_a, compare_b, compare_json;
   auto* compare_cmd = app.add_subcommand(
@@ -298,6 +370,9 @@ int main(int argc, char** argv) {
     }
     if (*gen_cmd) {
       return run_gen(gen);
+    }
+    if (*import_cmd) {
+      return run_import(imp);
     }
     if (*run_cmd) {
       return hil::sim::run_command(run);

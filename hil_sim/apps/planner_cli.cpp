@@ -19,6 +19,7 @@
 #include "itp/planner/planner.hpp"
 #include "sim/plan_plots.hpp"
 #include "sim/scene_convert.hpp"
+#include "sim/scene_files.hpp"
 #include "sim/scene_generator.hpp"
 #include "sim/link_endpoint.hpp"
 #include "itp/link/planner_messages.hpp"
@@ -117,7 +118,7 @@ json decision_json(const itp::planner::Planner& planner) {
 }
 
 int run(const Options& opt, bool decide_only) {
-  const auto loaded = hil::sim::load_scene_file(opt.scene_file);
+  const auto loaded = hil::sim::load_scene(opt.scene_file);  // scene/1, or CommonRoad XML imported
   if (!loaded.world) {
     fmt::print(stderr, "planner_cli: {}\n", loaded.error);
     return 2;
@@ -317,7 +318,7 @@ int run_batch(const BatchOptions& opt) {
 }
 
 void add_common(CLI::App* cmd, Options& opt) {
-  cmd->add_option("scene", opt.scene_file, "scene/1 JSON file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("scene", opt.scene_file, "scene/1 JSON or CommonRoad XML file")->required()->check(CLI::ExistingFile);
   cmd->add_option("--svg", opt.svg, "Write a picture of the cycle (SL; plan adds XY and ST views)");
   cmd->add_option("--now", opt.now, "Plan at this time of the scene [s] (obstacles move on)")->capture_default_str();
   cmd->add_option("--prediction", opt.prediction, "Obstacle predictions: ground truth or constant velocity")

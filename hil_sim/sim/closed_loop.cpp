@@ -21,6 +21,7 @@
 #include "sim/inproc_endpoint.hpp"
 #include "sim/link_endpoint.hpp"
 #include "sim/plan_plots.hpp"
+#include "sim/scene_files.hpp"
 #include "sim/scene_generator.hpp"
 
 namespace hil::sim {
@@ -210,6 +211,10 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
         metrics.set_crashed(result.error);
         break;
       }
+      rec.left_out = conv.left_out();
+      rec.reference_deviation_m = conv.reference_deviation_m;
+      rec.boundary_narrowing_m = conv.boundary_narrowing_m;
+      metrics.add_left_out(rec.left_out);
       picker.remember(k, t, *scene);
       const EndpointResult er = endpoint.plan(*scene, t, *plan);
       std::string problem;
@@ -377,6 +382,11 @@ std::string summary_table(const json& rep) {
   row("invalid inputs", fmt::format("{}{}", num(rep["invalid_inputs"]), inv.empty() ? "" : " (" + inv + ")"));
   row("link errors", num(rep["link_errors"]));
   row("crashes", num(rep["crashes"]));
+  if (rep.contains("obstacles_left_out")) {
+    const json& lo = rep["obstacles_left_out"];
+    row("obstacles left out (capacity)", fmt::format("{} cycles, {} in all, at most {} in a cycle", num(lo["cycles"]),
+                                                     num(lo["total"]), num(lo["max_per_cycle"])));
+  }
   row("min clearance [m]", num(rep["min_clearance_m"], "{:.3f}"));
   row("max |a_lon| [m/s²]", num(rep["max_abs_lon_acc"]));
   row("max |a_lat| [m/s²]", num(rep["max_abs_lat_acc"]));
@@ -470,6 +480,9 @@ void write_trace(std::ofstream& out, const std::string& scene, const SceneRunRes
     }
     j["decisions"] = c.decisions;
     if (!c.collision_with.empty()) j["collision_with"] = c.collision_with;
+    if (c.left_out > 0) j["obstacles_left_out"] = c.left_out;
+    if (c.reference_deviation_m > 0) j["reference_deviation_m"] = c.reference_deviation_m;
+    if (c.boundary_narrowing_m > 0) j["boundary_narrowing_m"] = c.boundary_narrowing_m;
     j["clearance"] = c.clearance ? json(*c.clearance) : json(nullptr);
     if (k < r.trace.size()) {
       j["x"] = r.trace[k].pose.x;
@@ -489,13 +502,13 @@ int run_command(const RunCommand& cmd) {
   std::vector<World> worlds;
   if (!cmd.scene_files.empty()) {
     for (const auto& path : cmd.scene_files) {
-      SceneParseResult p = load_scene_file(path);
-      if (!p) {
-        fmt::print(stderr, "hil_sim run: {}: {}\n", path, p.error);
+      LoadedScene loaded = load_scene(path, cmd.commonroad);
+      if (!loaded) {
+        fmt::print(stderr, "hil_sim run: {}\n", loaded.error);
         return 2;
       }
-      if (p.world->name.empty()) p.world->name = std::filesystem::path(path).stem().string();
-      worlds.push_back(std::move(*p.world));
+      for (const std::string& note : loaded.notes) fmt::print(stderr, "hil_sim run: {}: {}\n", path, note);
+      worlds.push_back(std::move(*loaded.world));
     }
   } else if (cmd.suite == "default") {
     worlds = default_suite(cmd.count, cmd.seed);

@@ -15,6 +15,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "itp/scene/scene.hpp"
+#include "sim/commonroad_world.hpp"
 #include "sim/metrics.hpp"
 #include "sim/planner_endpoint.hpp"
 #include "sim/scene_convert.hpp"
@@ -53,6 +54,9 @@ struct CycleRecord {
   double path_deviation_t = 0.0;   // [s] plan time of that largest deviation
   std::string decisions;           // per obstacle "id:lateral/longitudinal", e.g. "3:L/ignore 7:-/follow"
   std::string collision_with;      // fallback: collision: "obstacle@plan time", e.g. "14@2.3s"
+  int left_out = 0;                // obstacles in range the scene could not hold (least relevant first)
+  double reference_deviation_m = 0.0;  // resampling of the road window to the capacities
+  double boundary_narrowing_m = 0.0;   // (ConvertResult)
 };
 
 // A cycle worth a look (RunOptions::keep_snapshot): the first fallback /
@@ -75,8 +79,10 @@ struct SceneRunResult {
 };
 
 // Runs one world for its duration. The endpoint is reset() first. Never
-// throws: an exception from the endpoint or a world that does not fit the
-// planner ends the scene as crashed (summary.crashed, error).
+// throws: an exception from the endpoint or a world the planner cannot be
+// given at all (no reference line) ends the scene as crashed (summary.crashed,
+// error). Capacity does not: the scene keeps the most relevant obstacles and
+// the cycle counts the others (CycleRecord::left_out).
 SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const RunOptions& options);
 
 // The per-scene SVG: the XY view of the run (ego footprints over time and the
@@ -89,7 +95,8 @@ std::string summary_table(const nlohmann::json& report);
 
 // `hil_sim run`.
 struct RunCommand {
-  std::vector<std::string> scene_files;  // empty: the generated suite
+  std::vector<std::string> scene_files;  // scene/1 or CommonRoad XML files; empty: the generated suite
+  CommonRoadOptions commonroad;          // how CommonRoad files are imported
   std::string suite = "default";
   int count = 200;
   std::uint64_t seed = 1;
@@ -105,7 +112,7 @@ struct RunCommand {
 // Returns the process exit code: 0 when every scene ran (collisions are
 // results), 2 on usage / setup errors (unreadable scene, unknown target,
 // unwritable output), 3 when a scene crashed (the endpoint threw or a world
-// does not fit the planner); the report is written in every case but 2.
+// has no usable reference line); the report is written in every case but 2.
 int run_command(const RunCommand& command);
 
 }  // namespace hil::sim

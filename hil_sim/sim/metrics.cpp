@@ -121,6 +121,13 @@ double SceneMetrics::add_plan(double t_start, std::span<const TrajectoryPoint> p
 
 void SceneMetrics::add_link_error(int count) { s_.link_errors += count; }
 
+void SceneMetrics::add_left_out(int count) {
+  if (count <= 0) return;
+  ++s_.left_out_cycles;
+  s_.left_out_total += count;
+  s_.left_out_max = std::max(s_.left_out_max, count);
+}
+
 void SceneMetrics::set_crashed(std::string reason) {
   s_.crashed = true;
   s_.crash_reason = std::move(reason);
@@ -143,6 +150,9 @@ Stats compute_stats(std::vector<double> v) {
 
 namespace {
 json opt(const std::optional<double>& x) { return x ? json(*x) : json(nullptr); }
+json left_out_json(int cycles, int total, int max_per_cycle) {
+  return json{{"cycles", cycles}, {"total", total}, {"max_per_cycle", max_per_cycle}};
+}
 }  // namespace
 
 json scene_summary_json(const SceneSummary& s) {
@@ -178,6 +188,7 @@ json scene_summary_json(const SceneSummary& s) {
             {"cycle_time_us", {{"median", opt(ct.median)}, {"p99", opt(ct.p99)}, {"max", opt(ct.max)}}},
             {"instructions_per_cycle", {{"median", opt(in.median)}, {"max", opt(in.max)}}}};
   if (s.crashed) j["crash_reason"] = s.crash_reason;
+  if (s.left_out_cycles > 0) j["obstacles_left_out"] = left_out_json(s.left_out_cycles, s.left_out_total, s.left_out_max);
   if (!s.invalid_input_reasons.empty()) j["invalid_input_reasons"] = s.invalid_input_reasons;
   if (!s.tags.empty()) j["tags"] = s.tags;
   return j;
@@ -188,6 +199,7 @@ void SuiteAggregator::add(SceneSummary scene) { scenes_.push_back(std::move(scen
 json SuiteAggregator::report(const std::string& target) const {
   int cycles = 0, collisions = 0, collision_steps = 0, departures = 0, departure_steps = 0;
   int fallbacks = 0, invalid = 0, link_errors = 0, crashes = 0;
+  int left_out_cycles = 0, left_out_total = 0, left_out_max = 0;
   std::optional<double> min_clear;
   double max_lat = 0.0, max_lon = 0.0, max_jerk = 0.0, progress = 0.0;
   std::optional<double> max_dev;
@@ -206,6 +218,9 @@ json SuiteAggregator::report(const std::string& target) const {
     invalid += s.invalid_inputs;
     link_errors += s.link_errors;
     crashes += s.crashed ? 1 : 0;
+    left_out_cycles += s.left_out_cycles;
+    left_out_total += s.left_out_total;
+    left_out_max = std::max(left_out_max, s.left_out_max);
     if (s.min_clearance_m) min_clear = min_clear ? std::min(*min_clear, *s.min_clearance_m) : *s.min_clearance_m;
     if (s.max_plan_deviation_m) max_dev = std::max(max_dev.value_or(0.0), *s.max_plan_deviation_m);
     if (s.max_path_deviation_m) {
@@ -254,6 +269,7 @@ json SuiteAggregator::report(const std::string& target) const {
             {"median_scene_path_deviation_m", opt(compute_stats(path_devs).median)},
             {"progress_m_total", progress},
             {"per_scene", std::move(per_scene)}};
+  if (left_out_cycles > 0) j["obstacles_left_out"] = left_out_json(left_out_cycles, left_out_total, left_out_max);
   return j;
 }
 

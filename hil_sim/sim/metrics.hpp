@@ -54,6 +54,12 @@ struct SceneSummary {
   int invalid_inputs = 0;
   std::map<std::string, int> invalid_input_reasons;
   int link_errors = 0;
+  // Obstacles in range that the receiving configuration could not hold (the
+  // conversion kept the most relevant ones): cycles where any were left out,
+  // their sum over cycles, the most in one cycle.
+  int left_out_cycles = 0;
+  int left_out_total = 0;
+  int left_out_max = 0;
   bool crashed = false;
   std::string crash_reason;
   double progress_m = 0.0;              // last s - first s
@@ -84,6 +90,8 @@ class SceneMetrics {
   // Where that deviation is largest: the new plan's sample time [s from its start].
   double last_path_deviation_time() const { return last_dev_t_; }
   void add_link_error(int count = 1);
+  // Obstacles the cycle's scene could not hold (0: none).
+  void add_left_out(int count);
   void set_crashed(std::string reason);
   const SceneSummary& summary() const { return s_; }
 

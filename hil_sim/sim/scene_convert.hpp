@@ -4,6 +4,14 @@
 // window's arc length, static obstacles, and dynamic obstacles with their
 // predictions over the speed horizon (ground truth, or constant velocity and
 // heading from their current state, as a perception stack would give).
+//
+// The scene arrives as the receiving configuration holds it (docs/commonroad.md,
+// "Resampling" and "Obstacle selection"): a window with more reference points
+// or boundary knots than Cfg holds is resampled (the reference polyline to a
+// subset of its vertices within a measured distance, the boundaries never
+// wider than the real road, narrowed by that distance too), and more
+// obstacles in range than Cfg holds are cut to the most relevant ones, with a
+// count of those left out. Capacity never makes the conversion fail.
 #include <string>
 
 #include "itp/scene/scene.hpp"
@@ -22,13 +30,39 @@ EgoNow ego_at_start(const World& world);
 
 struct ConvertResult {
   bool ok = false;
-  std::string error;          // capacity or geometry problem, for people
+  std::string error;          // a world the planner cannot be given at all (not capacity)
   double window_s0 = 0;       // [m] arc length of the window's first point on the world line
+  // Obstacles in range that the scene could not hold (the least relevant).
+  int static_left_out = 0;
+  int dynamic_left_out = 0;
+  // Resampling to the capacities: the reference polyline's Hausdorff distance
+  // to the world's, and the largest narrowing of either boundary (including
+  // that distance, by which both boundaries are moved inwards).
+  double reference_deviation_m = 0.0;
+  double boundary_narrowing_m = 0.0;
+  int left_out() const { return static_left_out + dynamic_left_out; }
 };
 
-// Predictions are sampled every 0.1 s from `now` over the horizon (plus 0.5 s),
-// time-stamped in scene time: plan the result with PlanRequest::now = now.
+// Predictions are sampled every 0.1 s from `now` over the horizon (plus 0.5 s,
+// as far as Cfg holds), time-stamped in scene time: plan the result with
+// PlanRequest::now = now. Compiled for every configuration of ITP_FOR_EACH_CONFIG.
+template <class Cfg>
 ConvertResult make_planner_scene(const World& world, const EgoNow& ego, double now, Prediction mode,
-                                 itp::scene::Scene& out);
+                                 itp::scene::BasicScene<Cfg>& out);
+
+// The relevance rule that decides which obstacles a full scene keeps: the
+// smallest distance between the obstacle's footprint (as sent: its
+// prediction, sampled every 0.5 s over the speed horizon) and the ego's
+// footprint moving along its lane (the reference line, at its current lateral
+// offset) either at its current speed or braking at 4 m/s^2 to a stop (so the
+// traffic close behind counts too). Smaller is more relevant; ties go to the
+// obstacle ahead of the ego, then to the nearer one now, then to the lower id.
+struct Relevance {
+  double approach_m = 0.0;  // [m] nearest predicted approach to the ego
+  bool ahead = true;        // its centre is ahead of the ego's rear axle now
+  double distance_now_m = 0.0;
+  int id = 0;
+  bool operator<(const Relevance& o) const;
+};
 
 }  // namespace hil::sim

@@ -210,3 +210,37 @@ TEST_CASE("closed loop: decision-stage runs stay within the per-cycle budget, an
   MESSAGE("paper-0136: max decision runs per cycle " << ep.max_runs << ", cycles at the budget " << ep.at_budget
                                                     << " (" << ep.ok_at_budget << " still ok)");
 }
+
+TEST_CASE("closed loop: more traffic in range than the scene holds never ends the run, and what was left out is counted") {
+  World w = straight_road(400.0, 10.0, 15.0);
+  w.road.left_boundary = Boundary::constant_at(8.75);  // three lanes
+  // 9 cars in the two left lanes, all in range, driving along: 4 more than the default scene holds.
+  for (int i = 0; i < 9; ++i) {
+    DynamicObstacle d;
+    d.id = 20 + i;
+    d.length = 4.5;
+    d.width = 1.8;
+    const double y = i % 2 == 0 ? 3.5 : 7.0;
+    d.trajectory.push_back({0.0, 15.0 + 12.0 * i, y, 0.0, 10.0});
+    w.dynamic_obstacles.push_back(d);
+  }
+  InprocEndpoint ep;
+  RunOptions opt;
+  opt.duration = 3.0;
+  const SceneRunResult r = run_scene(w, ep, opt);
+  CHECK(r.error.empty());
+  CHECK_FALSE(r.summary.crashed);
+  CHECK(r.summary.cycles == 30);
+  CHECK(r.summary.left_out_cycles == 30);
+  CHECK(r.summary.left_out_max == 9 - itp::DefaultConfig::kMaxDynamicObstacles);
+  CHECK(r.summary.left_out_total == 30 * (9 - itp::DefaultConfig::kMaxDynamicObstacles));
+  REQUIRE_FALSE(r.cycles.empty());
+  CHECK(r.cycles.front().left_out == 4);
+  SuiteAggregator suite;
+  suite.add(r.summary);
+  const nlohmann::json rep = suite.report(ep.name());
+  CHECK(rep["crashes"] == 0);
+  REQUIRE(rep.contains("obstacles_left_out"));
+  CHECK(rep["obstacles_left_out"]["total"] == 120);
+  CHECK(rep["per_scene"][0]["obstacles_left_out"]["cycles"] == 30);
+}
