@@ -14,7 +14,7 @@ using itp::geometry::OrientedBox;
 using itp::geometry::Point2;
 using itp::geometry::ReferenceLine;
 using itp::geometry::ReferenceLineStatus;
-using itp::geometry::SLBox;
+using itp::geometry::SlBox;
 using itp::geometry::SmoothingSplineWorkspace;
 
 namespace {
@@ -26,14 +26,14 @@ TEST_CASE("SL box of a box on a straight road is the rotated box, with margin") 
   REQUIRE(line.build(test_roads::straight({Scalar(0), Scalar(0)}, 0.0, 100.0, 5.0), g_ws) ==
           ReferenceLineStatus::kOk);
   // Axis-aligned: exactly [35.5, 44.5] x [-0.6, 1.2].
-  const SLBox a = sl_bounding_box(line, {{Scalar(40), Scalar(0.3)}, Scalar(0), Scalar(9), Scalar(1.8)},
+  const SlBox a = sl_bounding_box(line, {{Scalar(40), Scalar(0.3)}, Scalar(0), Scalar(9), Scalar(1.8)},
                                   Scalar(0));
   CHECK(static_cast<double>(a.s_min) == doctest::Approx(35.5));
   CHECK(static_cast<double>(a.s_max) == doctest::Approx(44.5));
   CHECK(static_cast<double>(a.l_min) == doctest::Approx(-0.6));
   CHECK(static_cast<double>(a.l_max) == doctest::Approx(1.2));
   // Rotated by 90 deg with a 0.5 m margin.
-  const SLBox b = sl_bounding_box(
+  const SlBox b = sl_bounding_box(
       line, {{Scalar(40), Scalar(0)}, itp::geometry::kPi / Scalar(2), Scalar(4), Scalar(2)}, Scalar(0.5));
   CHECK(static_cast<double>(b.s_min) == doctest::Approx(38.5));
   CHECK(static_cast<double>(b.s_max) == doctest::Approx(41.5));
@@ -51,7 +51,7 @@ TEST_CASE("SL box of a long box on a curved road covers its densely sampled outl
   const double heading = 40.0 / 30.0;
   const OrientedBox box{{c.x + Scalar(2 * std::sin(heading)), c.y - Scalar(2 * std::cos(heading))},
                         static_cast<Scalar>(heading), Scalar(18), Scalar(2.5)};
-  const SLBox sl = sl_bounding_box(line, box, Scalar(0));
+  const SlBox sl = sl_bounding_box(line, box, Scalar(0));
   // Independent reference: exact polar coordinates of 400 points per edge.
   double s_min = 1e9, s_max = -1e9, l_min = 1e9, l_max = -1e9;
   const double ca = std::cos(heading), sa = std::sin(heading);

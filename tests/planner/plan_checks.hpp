@@ -1,7 +1,8 @@
 #pragma once
 // Physical checks of a returned plan, independent of the planner's internals:
-// clearances from the real oriented boxes, limits recomputed from the
-// trajectory samples. Templates, so that every planner configuration is
+// clearances from the real oriented boxes with the simulator's own geometry
+// (hil::sim, an oracle that shares no code with the planner's collision
+// check), limits recomputed from the trajectory samples. Templates, so that every planner configuration is
 // checked the same way.
 #include <doctest/doctest.h>
 
@@ -11,10 +12,10 @@
 #include <memory>
 
 #include "heap_guard.hpp"
-#include "itp/collision/oriented_box.hpp"
 #include "itp/planner/planner.hpp"
 #include "itp/scene/obstacle_motion.hpp"
 #include "itp/scene/scene.hpp"
+#include "sim/box_geometry.hpp"
 
 namespace planner_test {
 
@@ -56,17 +57,16 @@ template <class S, class P>
 double min_clearance(const S& s, const P& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const itp::planner::TrajectoryPoint& q : p.trajectory) {
-    const auto ego = itp::collision::box_from_rear_axle(q.x, q.y, q.heading, s.ego.geometry.length,
-                                                        s.ego.geometry.width, rear_overhang(s));
+    const hil::sim::OrientedBox ego =
+        hil::sim::ego_box(hil::sim::Pose{q.x, q.y, q.heading}, s.ego.geometry.length, s.ego.geometry.width,
+                          s.ego.geometry.wheelbase);
     for (const auto& o : s.static_obstacles) {
-      best =
-          std::min(best, itp::collision::distance(ego, {o.x, o.y, o.heading, o.length, o.width}));
+      best = std::min(best, hil::sim::box_distance(ego, {o.x, o.y, o.heading, o.length, o.width}));
     }
     for (const auto& o : s.dynamic_obstacles) {
       const auto pose = itp::scene::sample_pose(o, q.t);
       if (pose.present) {
-        best = std::min(
-            best, itp::collision::distance(ego, {pose.x, pose.y, pose.heading, o.length, o.width}));
+        best = std::min(best, hil::sim::box_distance(ego, {pose.x, pose.y, pose.heading, o.length, o.width}));
       }
     }
   }

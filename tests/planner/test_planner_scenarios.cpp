@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "heap_guard.hpp"
-#include "itp/collision/oriented_box.hpp"
+#include "itp/collision/box_overlap.hpp"
 #include "itp/planner/planner.hpp"
 #include "itp/scene/obstacle_motion.hpp"
 #include "plan_checks.hpp"

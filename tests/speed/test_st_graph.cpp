@@ -52,6 +52,9 @@ struct Run {
   void go(const std::vector<DynamicTrack>& tracks, double v0) {
     params.v0 = v0;
     params.limits.speed_limit = 15;
+    params.limits.a_min = -4;  // the speed QP's default braking bound (SpeedInput)
+    params.limits.a_max = 2;
+    params.limits.lat_acc_max = 2.5;
     std::array<Scalar, itp::DefaultConfig::kStSamples> s_guess{};
     std::array<Scalar, itp::DefaultConfig::kStSamples> v_guess{};
     reference_profile(params, 7.0, s_guess, v_guess);

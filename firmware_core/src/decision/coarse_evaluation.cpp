@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "itp/configurations.hpp"
+#include "itp/core/scalar_math.hpp"
 #include "itp/decision/corridor.hpp"
 #include "itp/qp/hot_or_cold.hpp"
 
@@ -18,8 +19,6 @@ constexpr Scalar kMinSpeed = Scalar(0.1);          // [m/s] floor when integrati
 constexpr int l_var(int i) { return 2 * i; }
 constexpr int t_var(int i) { return 2 * i + 1; }
 
-Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
-Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
 
 template <class D>
 void add_hessian(qp::QpProblem<D>& p, int i, int j, Scalar v) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "itp/configurations.hpp"
+#include "itp/core/scalar_math.hpp"
 
 namespace itp::decision {
 namespace {
@@ -21,7 +22,6 @@ bool finite_box(const SlBox& b) {
          std::isfinite(b.l_max) && b.s_min <= b.s_max && b.l_min <= b.l_max;
 }
 
-Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
 // Sorted, de-duplicated cut positions in s: the slice edges.
 template <class Cfg>

@@ -36,19 +36,41 @@ CartesianMotion cartesian_motion(const FrenetState& f) {
   return m;
 }
 
+CartesianState to_cartesian(const CurveSample& ref, FrenetState f) {
+  f.ref_kappa = ref.kappa;
+  f.ref_dkappa = ref.dkappa;
+  const CartesianMotion m = cartesian_motion(f);
+  CartesianState c;
+  c.position.x = ref.position.x - f.l * std::sin(ref.heading);
+  c.position.y = ref.position.y + f.l * std::cos(ref.heading);
+  c.heading = wrap_angle(ref.heading + m.relative_heading);
+  c.kappa = m.kappa;
+  c.v = m.v;
+  c.a = m.a;
+  return c;
+}
+
+FrenetState to_frenet_state(const CurveSample& ref, Scalar l, const CartesianState& c) {
+  const Scalar q = Scalar(1) - ref.kappa * l;
+  const Scalar cos_dtheta = std::cos(relative_heading(c.heading, ref.heading));
+  FrenetState f;
+  f.l = l;
+  f.dl = lateral_slope(c.heading, ref.heading, ref.kappa, l);
+  f.ddl = (c.kappa * q / cos_dtheta - ref.kappa) * q / (cos_dtheta * cos_dtheta);
+  f.ds = c.v * cos_dtheta / q;
+  f.dds = c.a * cos_dtheta / q;
+  f.ref_kappa = ref.kappa;
+  f.ref_dkappa = ref.dkappa;
+  return f;
+}
+
 template <class Cfg>
-SLBox sl_bounding_box(const BasicReferenceLine<Cfg>& line, const OrientedBox& box, Scalar margin) {
-  const Point2 along{std::cos(box.heading), std::sin(box.heading)};
-  const Point2 across{-along.y, along.x};
-  const Scalar hl = box.length / Scalar(2);
-  const Scalar hw = box.width / Scalar(2);
-  // Corners counter-clockwise; edge k runs from corner k to corner k+1.
-  const Point2 corners[4] = {
-      box.center + hl * along + (-hw) * across, box.center + hl * along + hw * across,
-      box.center + (-hl) * along + hw * across, box.center + (-hl) * along + (-hw) * across};
+SlBox sl_bounding_box(const BasicReferenceLine<Cfg>& line, const OrientedBox& box, Scalar margin) {
+  // Edge k runs from corner k to corner k+1 (counter-clockwise).
+  const std::array<Point2, 4> corners = geometry::corners(box);
   const FrenetPoint first = line.to_frenet(corners[0]);
-  SLBox out{first.s, first.s, first.l, first.l};
-  for (int k = 0; k < 4; ++k) {
+  SlBox out{first.s, first.s, first.l, first.l};
+  for (std::size_t k = 0; k < 4; ++k) {  // 4 edges
     const Point2 a = corners[k];
     const Point2 edge = corners[(k + 1) % 4] - a;
     // Samples at j / pieces of the edge, j = 0 .. pieces-1 (the corner k+1 is
@@ -73,7 +95,7 @@ SLBox sl_bounding_box(const BasicReferenceLine<Cfg>& line, const OrientedBox& bo
 
 // Explicit instantiations for every configuration (itp/configurations.hpp).
 #define ITP_INSTANTIATE(C) \
-  template SLBox sl_bounding_box<C>(const BasicReferenceLine<C>&, const OrientedBox&, Scalar);
+  template SlBox sl_bounding_box<C>(const BasicReferenceLine<C>&, const OrientedBox&, Scalar);
 ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
 #undef ITP_INSTANTIATE
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "itp/configurations.hpp"
+#include "itp/core/scalar_math.hpp"
 #include "itp/geometry/angle.hpp"
 
 namespace itp::planner {
@@ -37,7 +38,6 @@ bool straight_line(const scene::BasicDynamicObstacle<Cfg>& o) {
   return true;
 }
 
-Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
 // The lane centre a sideways motion from l at lateral speed v_l ends at:
 // the next one in its direction (lanes at origin + j width).

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "itp/configurations.hpp"
+#include "itp/core/scalar_math.hpp"
 #include "itp/geometry/frenet.hpp"
 
 namespace itp::speed {
@@ -18,8 +19,6 @@ constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSampl
 // sits on its active bound, so the strict test flipped on rounding.
 constexpr Scalar kOnLimit = Scalar(1e-6);
 
-Scalar min_of(Scalar a, Scalar b) { return a < b ? a : b; }
-Scalar max_of(Scalar a, Scalar b) { return a > b ? a : b; }
 
 // The bound on s' (the rate of the reference's arc length) at path s: the
 // road's limit and the lateral acceleration on the path's exact curvature,

@@ -13,7 +13,7 @@
 #include "itp/decision/convex_space.hpp"
 #include "itp/decision/curvature_profile.hpp"
 #include "itp/decision/decision_tree.hpp"
-#include "itp/decision/vehicle_limits.hpp"
+#include "itp/decision/motion_limits.hpp"
 #include "itp/qp/planner_observer.hpp"
 #include "itp/qp/qp.hpp"
 
@@ -42,7 +42,7 @@ struct BasicCoarseInput {
   Scalar vehicle_width = Scalar(1.9);     // [m]
   Scalar lateral_margin = Scalar(0.2);    // [m] kept from zone edges, each side
   Scalar stop_margin = Scalar(3.0);       // [m] distance kept before a blocked corridor's end
-  VehicleLimits limits;
+  MotionLimits limits;
   const BasicCurvatureProfile<Cfg>* kappa_ref = nullptr;  // κ_ref(s); null = straight road
 };
 

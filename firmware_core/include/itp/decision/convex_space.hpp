@@ -11,19 +11,11 @@
 #include "itp/config.hpp"
 #include "itp/core/static_vector.hpp"
 #include "itp/decision/road_sl.hpp"
+#include "itp/geometry/sl_box.hpp"
 
 namespace itp::decision {
 
-// An obstacle's footprint in the SL frame (already inflated by its margin).
-// A dynamic obstacle is placed where it is at its meeting time with the ego.
-struct SlBox {
-  Scalar s_min = 0;  // [m]
-  Scalar s_max = 0;  // [m]
-  Scalar l_min = 0;  // [m]
-  Scalar l_max = 0;  // [m]
-  std::int32_t obstacle_id = 0;
-  bool dynamic = false;
-};
+using geometry::SlBox;
 
 inline constexpr std::int16_t kRoadEdge = -1;  // a zone bounded by the road, not an obstacle
 

@@ -1,8 +1,10 @@
 #pragma once
 // Frenet-frame helpers built on a ReferenceLine: heading <-> l' conversion and
 // the SL bounding rectangle of an oriented box (paper 1.1, "SL block").
+#include "itp/geometry/oriented_box.hpp"
 #include "itp/geometry/point.hpp"
 #include "itp/geometry/reference_line.hpp"
+#include "itp/geometry/sl_box.hpp"
 
 namespace itp::geometry {
 
@@ -49,27 +51,33 @@ struct CartesianMotion {
 // Meaningful for q = 1 - kappa l > 0 (the point inside the reference's radius).
 CartesianMotion cartesian_motion(const FrenetState& f);
 
-// A rectangle in the world frame.
-struct OrientedBox {
-  Point2 center;                  // [m] box centre
-  Scalar heading = Scalar(0);     // [rad] direction of the length axis
-  Scalar length = Scalar(0);      // [m] along heading
-  Scalar width = Scalar(0);       // [m] across heading
+// A vehicle's motion in the world frame (its reference point, e.g. the rear axle).
+struct CartesianState {
+  Point2 position;             // [m]
+  Scalar heading = Scalar(0);  // [rad]
+  Scalar kappa = Scalar(0);    // [1/m] curvature of its path
+  Scalar v = Scalar(0);        // [m/s]
+  Scalar a = Scalar(0);        // [m/s^2] dv/dt
 };
 
-// Axis-aligned rectangle in the Frenet frame.
-struct SLBox {
-  Scalar s_min = Scalar(0);  // [m]
-  Scalar s_max = Scalar(0);  // [m]
-  Scalar l_min = Scalar(0);  // [m]
-  Scalar l_max = Scalar(0);  // [m]
-};
+// Frenet to world at the reference sample `ref` taken at the point's s
+// (exact: cartesian_motion, with f's reference curvature taken from ref).
+CartesianState to_cartesian(const CurveSample& ref, FrenetState f);
+
+// World to Frenet for a point at lateral offset `l` whose foot point on the
+// reference is `ref`: l' from the relative heading dtheta, and with
+// q = 1 - kappa_ref l,
+//   l'' = (kappa q / cos(dtheta) - kappa_ref) q / cos^2(dtheta)   (kappa_ref' neglected),
+//   s'  = v cos(dtheta) / q,
+//   s'' = a cos(dtheta) / q                                        (the s'^2 g_s term neglected).
+// The result's ref_kappa and ref_dkappa are ref's.
+FrenetState to_frenet_state(const CurveSample& ref, Scalar l, const CartesianState& c);
 
 // The smallest SL rectangle holding the box's outline, grown by `margin` [m]
-// on all four sides. The outline is sampled at the corners and along each
+// on all four sides (obstacle_id 0, static: the caller names it). The outline is sampled at the corners and along each
 // edge every kBoxEdgeSampleSpacing (at most kMaxBoxEdgeSamples points per
 // edge), since on a curved road the extreme s or l can lie inside an edge.
 template <class Cfg>
-SLBox sl_bounding_box(const BasicReferenceLine<Cfg>& line, const OrientedBox& box, Scalar margin);
+SlBox sl_bounding_box(const BasicReferenceLine<Cfg>& line, const OrientedBox& box, Scalar margin);
 
 }  // namespace itp::geometry

@@ -47,7 +47,7 @@ struct BasicPathInput {
   Scalar dl_max = Scalar(0.5);          // [-] |l'| bound
   Scalar kappa_max = Scalar(0.2);       // [1/m] curvature limit
   const decision::BasicCurvatureProfile<Cfg>* kappa_ref = nullptr;  // null: straight
-  // |κ| allowed along s, e.g. min(κ_max, a_lat_max / v(s)²) at the expected
+  // |κ| allowed along s, e.g. min(κ_max, lat_acc_max / v(s)²) at the expected
   // speed; null: kappa_max everywhere.
   const decision::BasicCurvatureProfile<Cfg>* kappa_bound = nullptr;
 };

@@ -8,6 +8,7 @@
 #include "itp/config.hpp"
 #include "itp/core/static_vector.hpp"
 #include "itp/geometry/point.hpp"
+#include "itp/scene/vehicle.hpp"
 
 namespace itp::scene {
 
@@ -48,21 +49,6 @@ struct EgoState {
   Scalar v = Scalar(0);        // [m/s] >= 0
   Scalar a = Scalar(0);        // [m/s^2]
   Scalar kappa = Scalar(0);    // [1/m] path curvature
-};
-
-struct VehicleGeometry {
-  Scalar length = Scalar(4.8);     // [m] bumper to bumper
-  Scalar width = Scalar(1.9);      // [m]
-  Scalar wheelbase = Scalar(2.8);  // [m] rear to front axle
-};
-
-// Dynamic limits. scene/1 carries them only as the optional "ego.limits"
-// object; the defaults are those of a passenger car in comfortable driving.
-struct VehicleLimits {
-  Scalar a_min = Scalar(-6);          // [m/s^2] strongest braking (< 0)
-  Scalar a_max = Scalar(3);           // [m/s^2] strongest acceleration (> 0)
-  Scalar lat_acc_max = Scalar(3);     // [m/s^2] |v^2 kappa| bound
-  Scalar kappa_max = Scalar(0.2);     // [1/m] |kappa| bound (radius 5 m)
 };
 
 struct Ego {

@@ -14,7 +14,7 @@
 #include "itp/core/static_vector.hpp"
 #include "itp/decision/convex_space.hpp"
 #include "itp/decision/curvature_profile.hpp"
-#include "itp/decision/vehicle_limits.hpp"
+#include "itp/decision/motion_limits.hpp"
 #include "itp/path/path_optimizer.hpp"
 #include "itp/speed/speed_optimizer.hpp"
 
@@ -99,7 +99,7 @@ struct BasicStParams {
   // [m] path s the front stays behind: the end of the planned path (the speed
   // plan never runs past the path it follows; not a wall: no stop needed); < 0: none
   Scalar path_end = -1;
-  decision::VehicleLimits limits;  // a_min: the vehicle's hard braking limit
+  decision::MotionLimits limits;  // a_min: the vehicle's hard braking limit
   Scalar comfort_decel = Scalar(-3);  // [m/s^2] braking a plan uses when that is enough
   // The retry when the speed QP was infeasible: every overtake becomes a yield
   // and the curvature speed limit at t is the lowest over every position the

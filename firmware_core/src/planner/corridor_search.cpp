@@ -1,0 +1,168 @@
+#include "itp/planner/corridor_search.hpp"
+
+#include <cmath>
+
+#include "itp/configurations.hpp"
+#include "itp/decision/corridor.hpp"
+
+namespace itp::planner {
+namespace {
+
+constexpr int kMaxPathAttempts = 4;   // decisions tried by the path QP per round
+constexpr int kEvasiveAttempts = 2;   // ... of which this many with the evasive bound too
+constexpr Scalar kEverywhere = Scalar(1e9);  // [m] an s-range without bounds
+
+}  // namespace
+
+template <class Cfg>
+void BasicCorridorSearch<Cfg>::begin_cycle() {
+  chosen_ = -1;
+  infeasible_.clear();
+  path_solves_ = 0;
+  decision_runs_ = 0;
+}
+
+template <class Cfg>
+FallbackReason BasicCorridorSearch<Cfg>::run(const StSamples& s_guess, BasicSlScene<Cfg>& sl,
+                                             const Context& ctx, PathResult& path, BasicPlan<Cfg>& out) {
+  bool skip[Cfg::kMaxDynamicObstacles] = {};
+  chosen_ = -1;
+  evasive_ = false;
+  FallbackReason why = FallbackReason::kNoDecision;  // why the next round is needed
+  for (int round = 0; round <= Cfg::kMaxDynamicObstacles; ++round) {  // one more left-out obstacle per round
+    if (decision_runs_ >= Cfg::kMaxDecisionRunsPerCycle) {
+      return why;  // budget spent: the worst case stays bounded (WCET), the caller falls back
+    }
+    ++decision_runs_;
+    std::uint64_t t0 = ctx.ticks.ticks();
+    sl.place_dynamic(s_guess, skip);
+    const decision::DecisionStatus ds =
+        stage_.run(sl.road(), sl.boxes(), ctx.inputs->convex, ctx.inputs->coarse, ctx.settings->decision_weights);
+    ++out.timing.decision_runs;
+    for (std::size_t i = 0; i < stage_.decisions().kept.size(); ++i) {  // <= kKeptDecisions
+      ++out.qp_solves;
+      out.qp_iterations += stage_.coarse(i).qp_iterations;
+    }
+    out.timing.decision += ctx.ticks.ticks() - t0;
+    if (ds == decision::DecisionStatus::kInvalidInput) {
+      return FallbackReason::kNoDecision;
+    }
+    int drop = -1;
+    why = FallbackReason::kNoDecision;
+    if (ds == decision::DecisionStatus::kNoDecision || stage_.best() < 0) {
+      drop = sl.nearest_dynamic(skip, -kEverywhere, kEverywhere);
+      if (drop < 0) {
+        return FallbackReason::kNoDecision;
+      }
+    } else if (ds == decision::DecisionStatus::kBlocked) {
+      // The best corridor ends where the next slice has no zone it links to:
+      // a moving obstacle in that slice is left to the ST graph; none there
+      // means the ego waits (for traffic in its sweep) or static obstacles
+      // block the road (a real stop).
+      const Decision& best = stage_.decisions().kept[static_cast<std::size_t>(stage_.best())];
+      drop = sl.nearest_dynamic(skip, best.reach, blocking_slice_end(best.reach));
+    }
+    if (drop < 0) {
+      if (try_paths(sl, ctx, path, out)) {
+        return FallbackReason::kNone;
+      }
+      drop = sl.nearest_dynamic(skip, -kEverywhere, kEverywhere);
+      if (drop < 0 || path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
+        return FallbackReason::kPathQpFailed;
+      }
+      why = FallbackReason::kPathQpFailed;
+    }
+    skip[drop] = true;
+  }
+  return FallbackReason::kPathQpFailed;
+}
+
+template <class Cfg>
+bool BasicCorridorSearch<Cfg>::try_paths(BasicSlScene<Cfg>& sl, const Context& ctx, PathResult& path,
+                                         BasicPlan<Cfg>& out) {
+  const std::uint64_t t0 = ctx.ticks.ticks();
+  path::BasicPathInput<Cfg> pi = ctx.inputs->path;
+  std::array<int, Cfg::kKeptDecisions> order{};
+  const int candidates = rank_decisions(stage_, sl.boxes(), ctx.previous, *ctx.settings, sl.lane_target(), order);
+  for (int attempt = 0; attempt < candidates && attempt < kMaxPathAttempts && chosen_ < 0; ++attempt) {
+    const int index = order[static_cast<std::size_t>(attempt)];
+    const Decision& d = stage_.decisions().kept[static_cast<std::size_t>(index)];
+    const std::uint64_t corridor = corridor_signature(d, pi);
+    if (known_infeasible(corridor)) {
+      continue;  // this corridor failed at the steering limit earlier in this cycle
+    }
+    // The curvature bound at the expected speed, then at the slowest speed
+    // braking can reach, then (the two best decisions only) the same with
+    // the evasive lateral acceleration: a plan that needs it is a fallback
+    // (evasive), the safest way out, not a stop where the ego stands (in an
+    // oncoming lane, say). Within the cycle's budget.
+    const int levels = attempt < kEvasiveAttempts ? 3 : 2;
+    for (int relax = 0; relax < levels && chosen_ < 0 && path_solves_ < Cfg::kMaxPathSolvesPerCycle; ++relax) {
+      ++path_solves_;
+      pi.kappa_bound = relax == 0 ? &ctx.bounds->expected : (relax == 1 ? &ctx.bounds->reach : &ctx.bounds->evasive);
+      path_opt_.solve(stage_.space(), d, pi, ctx.settings->path_weights, path);
+      ++out.qp_solves;
+      out.qp_iterations += path.iterations;
+      if (qp::is_usable(path.status)) {
+        chosen_ = index;
+        evasive_ = relax == 2;
+      }
+    }
+    if (chosen_ < 0 && path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
+      break;  // budget spent: the worst case stays bounded (WCET), the caller falls back
+    }
+    if (chosen_ < 0 && !infeasible_.full()) {
+      static_cast<void>(infeasible_.push_back(corridor));  // not full: checked
+    }
+  }
+  out.timing.path += ctx.ticks.ticks() - t0;
+  return chosen_ >= 0;
+}
+
+// A fingerprint of a decision's corridor as the path QP sees it: the
+// bounds at its samples (to the millimetre). Within one cycle the path QP
+// depends on nothing else (the start state is fixed), so a corridor that
+// failed at every curvature bound fails again in a later iteration or round.
+template <class Cfg>
+std::uint64_t BasicCorridorSearch<Cfg>::corridor_signature(const Decision& d,
+                                                           const path::BasicPathInput<Cfg>& pi) const {
+  constexpr std::uint64_t kFnvPrime = 1099511628211ull;
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a offset basis
+  const int samples = Cfg::kPathBlocks * Cfg::kPathSamplesPerBlock;
+  for (int k = 0; k <= samples; ++k) {  // the path QP's samples
+    const Scalar s = pi.s0 + pi.length * static_cast<Scalar>(k) / static_cast<Scalar>(samples);
+    const decision::LateralInterval c = decision::corridor_at(stage_.space(), d, s);
+    const auto lo = static_cast<std::int64_t>(std::lround(c.lo * Scalar(1000)));
+    const auto hi = static_cast<std::int64_t>(std::lround(c.hi * Scalar(1000)));
+    h = (h ^ static_cast<std::uint64_t>(lo)) * kFnvPrime;
+    h = (h ^ static_cast<std::uint64_t>(hi)) * kFnvPrime;
+  }
+  return h;
+}
+
+template <class Cfg>
+bool BasicCorridorSearch<Cfg>::known_infeasible(std::uint64_t corridor) const {
+  for (const std::uint64_t c : infeasible_) {  // <= kRememberedInfeasibleCorridors
+    if (c == corridor) {
+      return true;
+    }
+  }
+  return false;
+}
+
+template <class Cfg>
+Scalar BasicCorridorSearch<Cfg>::blocking_slice_end(Scalar reach) const {
+  for (const decision::Slice& slice : stage_.space().slices) {  // <= kMaxSlices
+    if (slice.s_begin >= reach) {
+      return slice.s_end;
+    }
+  }
+  return reach;
+}
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) template class BasicCorridorSearch<C>;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
+
+}  // namespace itp::planner

@@ -1,0 +1,151 @@
+#include "itp/planner/safe_stop.hpp"
+
+#include <cmath>
+
+#include "itp/configurations.hpp"
+#include "itp/core/scalar_math.hpp"
+#include "itp/planner/collision_check.hpp"
+
+namespace itp::planner {
+namespace {
+
+constexpr Scalar kFallbackPathAge = Scalar(1);  // [s] a fallback brakes along the last ok plan this long
+
+bool finite_state(const scene::EgoState& e) {
+  return std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.heading) && std::isfinite(e.v);
+}
+
+// The pose at arc length `target` along a trajectory (its samples' s),
+// linear between samples, straight on along the last heading beyond its end.
+template <class Cfg>
+void pose_along(const BasicPlan<Cfg>& path, Scalar target, TrajectoryPoint& p) {
+  const TrajectoryPoint* a = &path.trajectory[0];
+  const TrajectoryPoint* b = &path.trajectory[0];
+  for (std::size_t i = 1; i < path.trajectory.size(); ++i) {  // kTrajectorySamples
+    b = &path.trajectory[i];
+    if (b->s >= target) {
+      break;
+    }
+    a = b;
+  }
+  const Scalar span = b->s - a->s;
+  const Scalar u = span > Scalar(1e-6) ? clamp((target - a->s) / span, Scalar(0), Scalar(1)) : Scalar(0);
+  const Scalar extra = target > b->s ? target - b->s : Scalar(0);
+  p.x = a->x + u * (b->x - a->x) + extra * std::cos(b->heading);
+  p.y = a->y + u * (b->y - a->y) + extra * std::sin(b->heading);
+  p.heading = a->heading + u * (b->heading - a->heading);
+  p.kappa = a->kappa;
+  p.s = target;
+  p.l = a->l + u * (b->l - a->l);
+}
+
+// s of the trajectory sample nearest to (x, y).
+template <class Cfg>
+Scalar nearest_sample_s(const BasicPlan<Cfg>& path, Scalar x, Scalar y) {
+  Scalar s_begin = 0;
+  Scalar best = -1;
+  for (const TrajectoryPoint& q : path.trajectory) {  // kTrajectorySamples
+    const Scalar dx = q.x - x;
+    const Scalar dy = q.y - y;
+    const Scalar d2 = dx * dx + dy * dy;
+    if (best < 0 || d2 < best) {
+      best = d2;
+      s_begin = q.s;
+    }
+  }
+  return s_begin;
+}
+
+}  // namespace
+
+template <class Cfg>
+void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, FallbackMemory& memory,
+               BasicPlan<Cfg>& out) {
+  constexpr int kSamples = Cfg::kTrajectorySamples;
+  constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);
+  if (out.status != PlanStatus::kInvalidInput) {
+    out.status = PlanStatus::kFallback;
+    out.fallback = reason;
+  }
+  out.trajectory.clear();
+  const bool invalid = out.status == PlanStatus::kInvalidInput;
+  const scene::BasicScene<Cfg>* scene = in.scene;
+  const bool have_state = scene != nullptr && finite_state(scene->ego.state);
+  const Scalar v0 = have_state ? max_of(scene->ego.state.v, Scalar(0)) : Scalar(0);
+  const Scalar age = in.now - in.previous_time;
+  const bool on_previous = in.previous != nullptr && in.previous->trajectory.size() > 1 && age >= 0 &&
+                           age < kFallbackPathAge && !invalid && have_state;
+  const bool on_reference =
+      !on_previous && have_state && in.reference != nullptr && in.reference->valid() && !invalid;
+  geometry::FrenetPoint f = on_reference ? in.reference->to_frenet({scene->ego.state.x, scene->ego.state.y})
+                                         : geometry::FrenetPoint{};
+  // Hold the lateral offset of the first fallback cycle while fallbacks last,
+  // instead of following an ego that drifts with its heading.
+  if (on_reference) {
+    if (!memory.holding_l) {
+      memory.l = f.l;
+      memory.holding_l = true;
+    }
+    f.l = memory.l;
+  }
+  // Where the ego is on the previous plan: its nearest sample.
+  const Scalar s_begin =
+      on_previous ? nearest_sample_s(*in.previous, scene->ego.state.x, scene->ego.state.y) : Scalar(0);
+  // Comfortable braking unless it runs into an obstacle on the way; then the
+  // vehicle's hard limit (the shortest stop), unless that collides sooner
+  // (e.g. with traffic closing in from behind): then comfortable after all.
+  const Scalar hard = have_state && scene->ego.limits.a_min < in.comfort_decel ? scene->ego.limits.a_min
+                                                                              : in.comfort_decel;
+  int comfortable_hit = -1;
+  for (int attempt = 0; attempt < 3; ++attempt) {  // comfortable, hard, comfortable again
+    const Scalar decel = attempt == 1 ? hard : in.comfort_decel;  // < 0
+    out.trajectory.clear();
+    for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
+      const Scalar t = kDt * static_cast<Scalar>(k);
+      const Scalar t_stop = v0 / -decel;
+      const Scalar tt = min_of(t, t_stop);
+      const Scalar d = v0 * tt + Scalar(0.5) * decel * tt * tt;
+      TrajectoryPoint p;
+      p.t = t;
+      p.v = max_of(v0 + decel * t, Scalar(0));
+      p.a = t < t_stop ? decel : Scalar(0);
+      if (on_previous) {
+        // Along the previous trajectory by arc length d from where the ego is now.
+        pose_along(*in.previous, s_begin + d, p);
+      } else if (on_reference) {
+        const Scalar s = min_of(f.s + d, in.reference->length());
+        const geometry::CurveSample r = in.reference->evaluate(s);
+        p.s = s;
+        p.l = f.l;
+        p.x = r.position.x - f.l * std::sin(r.heading);
+        p.y = r.position.y + f.l * std::cos(r.heading);
+        p.heading = r.heading;
+        p.kappa = r.kappa;
+      } else if (have_state) {
+        const scene::EgoState& e = scene->ego.state;
+        p.x = e.x + d * std::cos(e.heading);
+        p.y = e.y + d * std::sin(e.heading);
+        p.heading = e.heading;
+        p.s = d;
+      }
+      static_cast<void>(out.trajectory.push_back(p));  // kSamples = capacity
+    }
+    if (!have_state || invalid || attempt == 2) {
+      break;
+    }
+    const int hit = first_collision(*scene, in.motions, out).sample;
+    if (hit < 0 || (attempt == 1 && hit >= comfortable_hit)) {
+      break;
+    }
+    comfortable_hit = hit;
+  }
+}
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C)                                                                   \
+  template void safe_stop<C>(const BasicSafeStopInput<C>&, FallbackReason, FallbackMemory&, \
+                             BasicPlan<C>&);
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
+
+}  // namespace itp::planner

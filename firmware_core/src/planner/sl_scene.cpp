@@ -1,0 +1,260 @@
+#include "itp/planner/sl_scene.hpp"
+
+#include <cmath>
+
+#include "itp/configurations.hpp"
+#include "itp/core/scalar_math.hpp"
+#include "itp/geometry/angle.hpp"
+#include "itp/geometry/frenet.hpp"
+#include "itp/planner/road_prediction.hpp"
+
+namespace itp::planner {
+namespace {
+
+constexpr Scalar kOncomingHeading =
+    Scalar(1.5707963267948966);  // [rad] |heading - reference| beyond: oncoming
+// A mover heading across the road (45..135 deg from the reference) at walking
+// pace or more crosses the path: the ego yields to it in the ST graph. Its box
+// at the meeting time is a snapshot of something that moves sideways, so a
+// lateral decision around it means nothing, and its sweep covers the road.
+constexpr Scalar kCrossingHeadingLow = Scalar(0.7853981633974483);   // [rad]
+constexpr Scalar kCrossingHeadingHigh = Scalar(2.356194490192345);   // [rad]
+constexpr Scalar kCrossingMinSpeed = Scalar(0.5);                    // [m/s]
+// A crossing mover (a pedestrian, a cyclist) walks into the path: the ego
+// does not pass before it unless it is this much further away sideways.
+constexpr Scalar kCrossingMargin = Scalar(1.0);                      // [m]
+// A car alongside in another lane at least this close to the ego's speed
+// (or faster) is treated as coming from behind: its lane ahead is its own.
+constexpr Scalar kAlongsideSpeedSlack = Scalar(1);                   // [m/s]
+
+// A road edge moved inwards by `shift` (> 0: towards the left).
+template <class Cfg>
+decision::BasicLateralProfile<Cfg> to_profile(const scene::BasicBoundary<Cfg>& b, Scalar shift) {
+  if (b.is_constant()) {
+    return decision::BasicLateralProfile<Cfg>::constant(b.offset + shift);
+  }
+  decision::BasicLateralProfile<Cfg> p;
+  for (const scene::BoundaryPoint& q : b.table) {  // <= kMaxBoundaryPoints
+    static_cast<void>(p.add(q.s, q.l + shift));  // same capacity, s validated ascending
+  }
+  return p;
+}
+
+// SL box of a moving obstacle from one projection of its centre: the box's
+// half extents along and across the reference at its relative heading. Its
+// error on a curved road is about κ·L²/8 (6 cm for a 5 m car on a 50 m
+// radius), well inside the dynamic margin; 355 boxes per cycle make the exact
+// edge-sampled version (sl_bounding_box, about 20 projections each) the
+// planner's largest cost.
+template <class Cfg>
+geometry::SlBox moving_box_sl(const geometry::BasicReferenceLine<Cfg>& line, Scalar x, Scalar y,
+                              Scalar heading, Scalar length, Scalar width, Scalar margin,
+                              std::int32_t id) {
+  geometry::CurveSample foot;
+  const geometry::FrenetPoint c = line.to_frenet(geometry::Point2{x, y}, foot);
+  const Scalar rel = geometry::relative_heading(heading, foot.heading);
+  const Scalar cs = std::fabs(std::cos(rel));
+  const Scalar sn = std::fabs(std::sin(rel));
+  const Scalar half_s = Scalar(0.5) * (cs * length + sn * width) + margin;
+  const Scalar half_l = Scalar(0.5) * (sn * length + cs * width) + margin;
+  return geometry::SlBox{c.s - half_s, c.s + half_s, c.l - half_l, c.l + half_l, id, true};
+}
+
+}  // namespace
+
+template <class Cfg>
+void BasicSlScene<Cfg>::build(const Scene& scene, const ReferenceLine& line, Scalar now,
+                              Scalar s_start, const PlannerSettings& settings) {
+  rear_ = scene::rear_overhang(scene.ego.geometry);
+  front_ = scene.ego.geometry.length - rear_;
+  s_start_ = s_start;
+  ego_v_ = scene.ego.state.v;
+  road_.left = to_profile(scene.road.left, -settings.road_margin);
+  road_.right = to_profile(scene.road.right, settings.road_margin);
+  road_.lane_width = scene.road.lane_width;
+  road_.target_lane_offset = scene.road.target_lane_offset;
+  project_statics(scene, line, settings.static_margin);
+  project_dynamics(scene, line, now, settings.dynamic_margin);
+}
+
+template <class Cfg>
+void BasicSlScene<Cfg>::project_statics(const Scene& scene, const ReferenceLine& line,
+                                        Scalar static_margin) {
+  boxes_.clear();
+  for (const scene::StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
+    const geometry::SlBox b = geometry::sl_bounding_box(
+        line, geometry::OrientedBox{{o.x, o.y}, o.heading, o.length, o.width}, static_margin);
+    // Inflated in s by the ego's extents, so constraints on the rear axle cover the car.
+    const geometry::SlBox sl{b.s_min - front_, b.s_max + rear_, b.l_min, b.l_max, o.id, false};
+    static_cast<void>(boxes_.push_back(sl));  // kMaxObstacles >= kMaxStaticObstacles
+  }
+  static_count_ = boxes_.size();
+}
+
+template <class Cfg>
+void BasicSlScene<Cfg>::project_dynamics(const Scene& scene, const ReferenceLine& line, Scalar now,
+                                         Scalar dynamic_margin) {
+  constexpr int kSamples = Cfg::kStSamples;
+  track_count_ = 0;
+  for (const scene::BasicDynamicObstacle<Cfg>& o : scene.dynamic_obstacles) {  // <= kMaxDynamicObstacles
+    DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_)];
+    Motion& motion = motion_[static_cast<std::size_t>(track_count_)];
+    ++track_count_;
+    tr.id = o.id;
+    tr.sweep_occupied = false;
+    tr.crossing = false;
+    bool seen = false;
+    bool on_road = false;  // first seen on the road: its prediction stays there
+    static_cast<void>(predict_along_road(line, road_, o, now, kDt, motion));
+    for (int k = 0; k < kSamples; ++k) {  // Cfg::kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      const scene::ObstacleSample& p = motion[u];
+      tr.present[u] = p.present;
+      if (!p.present) {
+        continue;
+      }
+      tr.box[u] = moving_box_sl(line, p.x, p.y, p.heading, o.length, o.width, dynamic_margin, o.id);
+      const Scalar s_mid = Scalar(0.5) * (tr.box[u].s_min + tr.box[u].s_max);
+      // Classified where first seen on the reference line (behind its start
+      // the frame runs straight on, so lanes mean nothing there).
+      if (!seen && (s_mid >= 0 || k == kSamples - 1)) {
+        seen = true;
+        const Scalar rel = geometry::relative_heading(p.heading, line.evaluate(s_mid).heading);
+        const bool oncoming = std::fabs(rel) > kOncomingHeading;
+        const Scalar l_mid = Scalar(0.5) * (tr.box[u].l_min + tr.box[u].l_max);
+        // Approaching from behind, or alongside and not slower, in another
+        // lane than the ego's target lane: the ego must not move in (or stay)
+        // ahead of it (it would be in its way). A follower in the target lane
+        // is its own business.
+        const bool behind = tr.box[u].s_max < s_start_;
+        const bool alongside = tr.box[u].s_min < s_start_ + front_ &&
+                               p.v * std::cos(rel) >= ego_v_ - kAlongsideSpeedSlack;
+        const bool other_lane = std::fabs(l_mid - lane_target()) > Scalar(0.5) * road_.lane_width;
+        const bool from_behind = (behind || alongside) && other_lane;
+        tr.crossing = std::fabs(rel) > kCrossingHeadingLow && std::fabs(rel) < kCrossingHeadingHigh &&
+                      std::fabs(p.v) >= kCrossingMinSpeed;
+        tr.sweep_occupied = !tr.crossing && (oncoming || from_behind);
+        on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
+      }
+      if (tr.crossing) {
+        tr.box[u].l_min -= kCrossingMargin;
+        tr.box[u].l_max += kCrossingMargin;
+      } else if (on_road) {
+        keep_on_road(s_mid, tr.box[u]);
+      }
+    }
+  }
+}
+
+// Road users seen on the road stay on it: a constant-velocity prediction on a
+// curve runs off along the tangent, so its boxes are shifted back inside the
+// road edges (when they fit), where the road bends the real obstacle.
+template <class Cfg>
+void BasicSlScene<Cfg>::keep_on_road(Scalar s, geometry::SlBox& box) const {
+  const Scalar lo = road_.right.at(s);
+  const Scalar hi = road_.left.at(s);
+  if (box.l_max - box.l_min > hi - lo) {
+    return;
+  }
+  const Scalar shift = box.l_max > hi ? hi - box.l_max : (box.l_min < lo ? lo - box.l_min : Scalar(0));
+  box.l_min += shift;
+  box.l_max += shift;
+}
+
+// An oncoming obstacle sweeps its way towards and past the ego: the ego
+// cannot pass it on the side it comes from, nor use its lane in between (a
+// manoeuvre there that stalls leaves the ego in its way). The same holds for
+// traffic coming up from behind in another lane: cutting in ahead of it and
+// slowing down gets the ego hit. Its box is everything it covers over the
+// horizon from the ego on (behind the ego nothing is planned, and behind the
+// reference line's start the frame runs straight, not along the lanes).
+template <class Cfg>
+geometry::SlBox BasicSlScene<Cfg>::occupied_sweep(const DynamicTrack& tr, geometry::SlBox b) const {
+  for (std::size_t u = 0; u < static_cast<std::size_t>(Cfg::kStSamples); ++u) {  // Cfg::kStSamples
+    const Scalar s_mid = Scalar(0.5) * (tr.box[u].s_min + tr.box[u].s_max);
+    if (tr.present[u] && tr.box[u].s_max >= s_start_ - rear_ && s_mid >= 0) {
+      b.s_min = min_of(b.s_min, tr.box[u].s_min);
+      b.s_max = max_of(b.s_max, tr.box[u].s_max);
+      b.l_min = min_of(b.l_min, tr.box[u].l_min);
+      b.l_max = max_of(b.l_max, tr.box[u].l_max);
+    }
+  }
+  return b;
+}
+
+// Dynamic obstacles enter the convex space where the ego meets them: the first
+// sample at which the ego's guessed position lies within the obstacle's
+// s-extent (grown by the ego's length); obstacles the ego never reaches sit at
+// their last predicted place.
+template <class Cfg>
+int BasicSlScene<Cfg>::place_dynamic(const StSamples& s_guess, const bool* skip) {
+  constexpr int kSamples = Cfg::kStSamples;
+  while (boxes_.size() > static_count_) {  // <= kMaxDynamicObstacles: last round's dynamic boxes
+    boxes_.pop_back();
+  }
+  int placed = 0;
+  for (int i = 0; i < track_count_; ++i) {  // <= kMaxDynamicObstacles
+    const DynamicTrack& tr = tracks_[static_cast<std::size_t>(i)];
+    if (skip[i] || tr.crossing) {
+      continue;
+    }
+    int meet = -1;
+    int last = -1;
+    for (int k = 0; k < kSamples && meet < 0; ++k) {  // Cfg::kStSamples
+      const auto u = static_cast<std::size_t>(k);
+      if (!tr.present[u]) {
+        continue;
+      }
+      last = k;
+      const Scalar ego_s = s_start_ + s_guess[u];
+      if (ego_s >= tr.box[u].s_min - front_ && ego_s <= tr.box[u].s_max + rear_) {
+        meet = k;
+      }
+    }
+    const int k = meet >= 0 ? meet : last;
+    if (k < 0 || tr.box[static_cast<std::size_t>(k)].s_max + rear_ < s_start_) {
+      continue;  // never present, or only behind the ego
+    }
+    if (meet < 0 && !tr.sweep_occupied &&
+        tr.box[static_cast<std::size_t>(k)].s_max + rear_ < s_start_ + s_guess[static_cast<std::size_t>(k)]) {
+      continue;  // never met, and behind the ego at the end: the ego passed it (the ST graph still sees it)
+    }
+    geometry::SlBox b = tr.box[static_cast<std::size_t>(k)];
+    if (tr.sweep_occupied) {
+      b = occupied_sweep(tr, b);
+    }
+    b.s_min -= front_;
+    b.s_max += rear_;
+    if (boxes_.push_back(b)) {
+      ++placed;
+    }
+  }
+  return placed;
+}
+
+template <class Cfg>
+int BasicSlScene<Cfg>::nearest_dynamic(const bool* skip, Scalar s_lo, Scalar s_hi) const {
+  int found = -1;
+  Scalar nearest = Scalar(0);
+  for (std::size_t i = static_count_; i < boxes_.size(); ++i) {  // <= kMaxDynamicObstacles
+    const geometry::SlBox& b = boxes_[i];
+    if (b.s_max < s_lo || b.s_min > s_hi || (found >= 0 && b.s_min >= nearest)) {
+      continue;
+    }
+    for (int j = 0; j < track_count_; ++j) {  // <= kMaxDynamicObstacles
+      const DynamicTrack& tr = tracks_[static_cast<std::size_t>(j)];
+      if (tr.id == b.obstacle_id && !skip[j] && !tr.sweep_occupied) {
+        found = j;
+        nearest = b.s_min;
+      }
+    }
+  }
+  return found;
+}
+
+// Explicit instantiations for every configuration (itp/configurations.hpp).
+#define ITP_INSTANTIATE(C) template class BasicSlScene<C>;
+ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
+#undef ITP_INSTANTIATE
+
+}  // namespace itp::planner
