@@ -6,7 +6,6 @@
 #include "itp/configurations.hpp"
 #include "itp/core/scalar_math.hpp"
 #include "itp/decision/corridor.hpp"
-#include "itp/qp/hot_or_cold.hpp"
 
 namespace itp::decision {
 namespace {
@@ -133,31 +132,32 @@ template <class Cfg>
 void BasicCoarseEvaluator<Cfg>::build_qp(const CoarseInput& in, const CoarseWeights& w,
                                          const CoarseResult& out) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
-  static_cast<void>(problem_.reset(2 * kN, kN - 1));
+  qp::QpProblem<CoarseDims>& problem = qp_.problem();
+  static_cast<void>(problem.reset(2 * kN, kN - 1));
   for (int i = 0; i < kN; ++i) {  // kCoarseSamples
-    add_hessian(problem_, l_var(i), l_var(i), w.l_ref);
-    add_hessian(problem_, t_var(i), t_var(i), w.t_lb);
-    problem_.g[l_var(i)] = -w.l_ref * in.l_ref;
-    problem_.g[t_var(i)] = -w.t_lb * out.t_lb[static_cast<std::size_t>(i)];
-    problem_.lb[l_var(i)] = out.l_lb[static_cast<std::size_t>(i)];
-    problem_.ub[l_var(i)] = out.l_ub[static_cast<std::size_t>(i)];
-    problem_.lb[t_var(i)] = out.t_lb[static_cast<std::size_t>(i)];
-    problem_.ub[t_var(i)] = inf;
+    add_hessian(problem, l_var(i), l_var(i), w.qp.l_ref);
+    add_hessian(problem, t_var(i), t_var(i), w.qp.t_lb);
+    problem.g[l_var(i)] = -w.qp.l_ref * in.l_ref;
+    problem.g[t_var(i)] = -w.qp.t_lb * out.t_lb[static_cast<std::size_t>(i)];
+    problem.lb[l_var(i)] = out.l_lb[static_cast<std::size_t>(i)];
+    problem.ub[l_var(i)] = out.l_ub[static_cast<std::size_t>(i)];
+    problem.lb[t_var(i)] = out.t_lb[static_cast<std::size_t>(i)];
+    problem.ub[t_var(i)] = inf;
     if (i >= 1 && i + 1 < kN) {
-      add_second_difference(problem_, l_var(i - 1), l_var(i), l_var(i + 1), w.l_smooth);
-      add_second_difference(problem_, t_var(i - 1), t_var(i), t_var(i + 1), w.t_smooth);
+      add_second_difference(problem, l_var(i - 1), l_var(i), l_var(i + 1), w.qp.l_smooth);
+      add_second_difference(problem, t_var(i - 1), t_var(i), t_var(i + 1), w.qp.t_smooth);
     }
   }
   // The start is fixed (eq. 3): l_0 = l_init, t_0 = 0.
-  problem_.lb[l_var(0)] = problem_.ub[l_var(0)] = in.l_init;
-  problem_.lb[t_var(0)] = problem_.ub[t_var(0)] = 0;
+  problem.lb[l_var(0)] = problem.ub[l_var(0)] = in.l_init;
+  problem.lb[t_var(0)] = problem.ub[t_var(0)] = 0;
   // Time runs forward no faster than the speed limit allows.
   const Scalar dt_min = out.ds / max_of(in.limits.speed_limit, kMinSpeed);
   for (int i = 0; i + 1 < kN; ++i) {  // kCoarseSamples - 1 rows
-    static_cast<void>(problem_.push_row_entry(i, t_var(i), Scalar(-1)));
-    static_cast<void>(problem_.push_row_entry(i, t_var(i + 1), Scalar(1)));
-    problem_.lba[i] = dt_min;
-    problem_.uba[i] = inf;
+    static_cast<void>(problem.push_row_entry(i, t_var(i), Scalar(-1)));
+    static_cast<void>(problem.push_row_entry(i, t_var(i + 1), Scalar(1)));
+    problem.lba[i] = dt_min;
+    problem.uba[i] = inf;
   }
 }
 
@@ -209,24 +209,20 @@ void BasicCoarseEvaluator<Cfg>::evaluate(const ConvexSpace& space, const Decisio
   }
   build_qp(in, w, out);
   if (observer_ != nullptr && observer_->coarse != nullptr) {
-    observer_->coarse(observer_->context, problem_);
+    observer_->coarse(observer_->context, qp_.problem());
   }
   // H does not depend on the decision (only on the weights), so after the
   // first factorisation every solve is a hotstart: new g and bounds only.
-  const bool same_h = w.l_smooth == factored_weights_.l_smooth &&
-                      w.l_ref == factored_weights_.l_ref && w.t_smooth == factored_weights_.t_smooth &&
-                      w.t_lb == factored_weights_.t_lb;
-  const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same_h, have_factor_);
-  factored_weights_ = w;
+  const qp::QpStatus st = qp_.solve(w.qp);
   out.status = st;
-  out.qp_iterations = result_.iterations;
+  out.qp_iterations = qp_.result().iterations;
   if (!qp::is_usable(st)) {
     out.decision_cost = std::numeric_limits<Scalar>::infinity();
     return;
   }
   for (int i = 0; i < kN; ++i) {  // kCoarseSamples
-    out.l[static_cast<std::size_t>(i)] = result_.x[l_var(i)];
-    out.t[static_cast<std::size_t>(i)] = result_.x[t_var(i)];
+    out.l[static_cast<std::size_t>(i)] = qp_.result().x[l_var(i)];
+    out.t[static_cast<std::size_t>(i)] = qp_.result().x[t_var(i)];
   }
   score(decision, in, w, out);
 }

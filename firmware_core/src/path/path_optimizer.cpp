@@ -5,7 +5,6 @@
 
 #include "itp/configurations.hpp"
 #include "itp/decision/corridor.hpp"
-#include "itp/qp/hot_or_cold.hpp"
 #include "itp/spline/quintic_block.hpp"
 
 namespace itp::path {
@@ -34,16 +33,17 @@ template <class Cfg>
 void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& decision,
                           const PathInput& in, const PathWeights& w, Scalar h, bool same_matrices) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
+  qp::QpProblem<PathDims>& problem = qp_.problem();
   // H and A as the last build's (same h, reaches and weights): kept, only g
   // and the bounds are written again (the assembly was a quarter of a solve).
   if (same_matrices) {
     for (int i = 0; i < Cfg::kPathVariables; ++i) {  // Cfg::kPathVariables
-      problem_.g[i] = 0;
-      problem_.lb[i] = -inf;
-      problem_.ub[i] = inf;
+      problem.g[i] = 0;
+      problem.lb[i] = -inf;
+      problem.ub[i] = inf;
     }
   } else {
-    static_cast<void>(problem_.reset(Cfg::kPathVariables, Cfg::kPathQpRows));
+    static_cast<void>(problem.reset(Cfg::kPathVariables, Cfg::kPathQpRows));
   }
   const spline::Matrix6 block_h =
       same_matrices ? spline::Matrix6(spline::Matrix6::Zero())
@@ -68,7 +68,7 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
     const int v0 = var(b, 0);
     for (int i = 0; i < 6 && !same_matrices; ++i) {    // block Hessian into the band
       for (int j = 0; j <= i; ++j) {
-        static_cast<void>(problem_.set_hessian(v0 + i, v0 + j, problem_.hessian(v0 + i, v0 + j) + block_h(i, j)));
+        static_cast<void>(problem.set_hessian(v0 + i, v0 + j, problem.hessian(v0 + i, v0 + j) + block_h(i, j)));
       }
     }
     // Linear terms: -2 w0 l_target ∫l and -2 w_obs ∫ l l_mid, l_mid constant per zone.
@@ -91,7 +91,7 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
              spline::integral_row(h, a, h);
     }
     for (int i = 0; i < 6; ++i) {  // 6 block variables
-      problem_.g[v0 + i] += lin(i);
+      problem.g[v0 + i] += lin(i);
     }
     // Rows at the samples: corridor (8), l' and l''.
     for (int k = 0; k < Cfg::kPathSamplesPerBlock; ++k) {  // samples per block
@@ -104,24 +104,24 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
       const decision::LateralInterval c = decision::corridor_at(space, decision, s);
       const bool at_start = b == 0 && k == 0;  // fixed by init_sl: never binding
       for (int i = 0; i < 6 && !same_matrices; ++i) {  // rows touch the 6 block variables
-        static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i) + in.front_reach * r1(i)));
-        static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r0(i) - in.rear_reach * r1(i)));
-        static_cast<void>(problem_.push_row_entry(row + 2, v0 + i, r1(i)));
-        static_cast<void>(problem_.push_row_entry(row + 3, v0 + i, r2(i)));
+        static_cast<void>(problem.push_row_entry(row, v0 + i, r0(i) + in.front_reach * r1(i)));
+        static_cast<void>(problem.push_row_entry(row + 1, v0 + i, r0(i) - in.rear_reach * r1(i)));
+        static_cast<void>(problem.push_row_entry(row + 2, v0 + i, r1(i)));
+        static_cast<void>(problem.push_row_entry(row + 3, v0 + i, r2(i)));
       }
       for (int end = 0; end < 2; ++end) {  // front and rear bumper rows of (8)
-        problem_.lba[row + end] = at_start ? -inf : c.lo + half_width;
-        problem_.uba[row + end] = at_start ? inf : c.hi - half_width;
-        if (problem_.lba[row + end] > problem_.uba[row + end]) {  // just the vehicle's width: its middle
-          problem_.lba[row + end] = problem_.uba[row + end] = c.mid();
+        problem.lba[row + end] = at_start ? -inf : c.lo + half_width;
+        problem.uba[row + end] = at_start ? inf : c.hi - half_width;
+        if (problem.lba[row + end] > problem.uba[row + end]) {  // just the vehicle's width: its middle
+          problem.lba[row + end] = problem.uba[row + end] = c.mid();
         }
       }
-      problem_.lba[row + 2] = at_start ? -inf : -in.dl_max;
-      problem_.uba[row + 2] = at_start ? inf : in.dl_max;
+      problem.lba[row + 2] = at_start ? -inf : -in.dl_max;
+      problem.uba[row + 2] = at_start ? inf : in.dl_max;
       const Scalar kr = kappa_ref_at(in, s);
       const Scalar kb = kappa_bound_at(in, s);
-      problem_.lba[row + 3] = at_start ? -inf : -kb - kr;
-      problem_.uba[row + 3] = at_start ? inf : kb - kr;
+      problem.lba[row + 3] = at_start ? -inf : -kb - kr;
+      problem.uba[row + 3] = at_start ? inf : kb - kr;
       row += Cfg::kPathRowsPerSample;
     }
   }
@@ -130,14 +130,14 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
     const Scalar s = in.s0 + h * static_cast<Scalar>(j);
     const Scalar kr = kappa_ref_at(in, s);
     const Scalar kb = kappa_bound_at(in, s);
-    problem_.lb[var(j, 1)] = -in.dl_max;
-    problem_.ub[var(j, 1)] = in.dl_max;
-    problem_.lb[var(j, 2)] = -kb - kr;
-    problem_.ub[var(j, 2)] = kb - kr;
+    problem.lb[var(j, 1)] = -in.dl_max;
+    problem.ub[var(j, 1)] = in.dl_max;
+    problem.lb[var(j, 2)] = -kb - kr;
+    problem.ub[var(j, 2)] = kb - kr;
   }
-  problem_.lb[var(0, 0)] = problem_.ub[var(0, 0)] = in.l0;
-  problem_.lb[var(0, 1)] = problem_.ub[var(0, 1)] = in.dl0;
-  problem_.lb[var(0, 2)] = problem_.ub[var(0, 2)] = in.ddl0;
+  problem.lb[var(0, 0)] = problem.ub[var(0, 0)] = in.l0;
+  problem.lb[var(0, 1)] = problem.ub[var(0, 1)] = in.dl0;
+  problem.lb[var(0, 2)] = problem.ub[var(0, 2)] = in.ddl0;
 }
 
 template <class Cfg>
@@ -152,33 +152,24 @@ void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& de
   }
   // H and A depend only on h, the bumper reaches and the weights, never on the corridor:
   // hotstart whenever they match (new g and bounds only).
-  const bool same = h == factored_h_ && in.front_reach == factored_front_ && in.rear_reach == factored_rear_ &&
-                    w.target == factored_weights_.target &&
-                    w.d1 == factored_weights_.d1 && w.d2 == factored_weights_.d2 &&
-                    w.d3 == factored_weights_.d3 && w.obstacle == factored_weights_.obstacle;
+  const PathMatrixKey key{h, in.front_reach, in.rear_reach, w};
+  const bool same = qp_.same_matrices(key);
   build(space, decision, in, w, h, same);
   if (observer_ != nullptr && observer_->path != nullptr) {
-    observer_->path(observer_->context, problem_);
+    observer_->path(observer_->context, qp_.problem());
   }
-  const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
   // A path QP that failed (infeasible, or at the iteration cap) still leaves a
   // valid factor of H, and its working set is where the corridor pinches: the
   // next solve, usually the same corridor at the steering limit, hotstarts
   // from it instead of cold (e.g. 2 or 17-30 iterations where cold hit the cap of 60).
-  if (st == qp::QpStatus::kInfeasible || st == qp::QpStatus::kIterationLimit) {
-    have_factor_ = true;
-  }
-  factored_h_ = h;
-  factored_front_ = in.front_reach;
-  factored_rear_ = in.rear_reach;
-  factored_weights_ = w;
+  const qp::QpStatus st = qp_.solve(key, /*keep_factor_after_failure=*/true);
   out.status = st;
-  out.iterations = result_.iterations;
+  out.iterations = qp_.result().iterations;
   out.s0 = in.s0;
   out.h = h;
   if (qp::is_usable(st)) {
     for (int i = 0; i < Cfg::kPathVariables; ++i) {  // Cfg::kPathVariables
-      out.knots[static_cast<std::size_t>(i)] = result_.x[i];
+      out.knots[static_cast<std::size_t>(i)] = qp_.result().x[i];
     }
     spline::block_coefficients(h, out.knots.data(), Cfg::kPathBlocks, out.coefficients.data());
   }

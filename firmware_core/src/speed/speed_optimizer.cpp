@@ -4,7 +4,6 @@
 #include <limits>
 
 #include "itp/configurations.hpp"
-#include "itp/qp/hot_or_cold.hpp"
 #include "itp/spline/quintic_block.hpp"
 
 namespace itp::speed {
@@ -35,14 +34,15 @@ template <class Cfg>
 void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd, const SpeedWeights& w,
                            Scalar h, bool same_matrices) {
   const Scalar inf = std::numeric_limits<Scalar>::infinity();
+  qp::QpProblem<SpeedDims>& problem = qp_.problem();
   // H and A as the last build's (same h and weights): kept, only g and the
   // bounds are written again (every bound is, below).
   if (same_matrices) {
     for (int i = 0; i < Cfg::kSpeedVariables; ++i) {  // Cfg::kSpeedVariables
-      problem_.g[i] = 0;
+      problem.g[i] = 0;
     }
   } else {
-    static_cast<void>(problem_.reset(Cfg::kSpeedVariables, Cfg::kSpeedQpRows));
+    static_cast<void>(problem.reset(Cfg::kSpeedVariables, Cfg::kSpeedQpRows));
   }
   const spline::Matrix6 block_h =
       same_matrices ? spline::Matrix6(spline::Matrix6::Zero())
@@ -64,7 +64,7 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
     const int v0 = var(b, 0);
     for (int i = 0; i < 6 && !same_matrices; ++i) {  // block Hessian into the band
       for (int j = 0; j <= i; ++j) {
-        static_cast<void>(problem_.set_hessian(v0 + i, v0 + j, problem_.hessian(v0 + i, v0 + j) + block_h(i, j)));
+        static_cast<void>(problem.set_hessian(v0 + i, v0 + j, problem.hessian(v0 + i, v0 + j) + block_h(i, j)));
       }
     }
     // References linear inside the block, through their values at its ends.
@@ -75,7 +75,7 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
     const spline::Row6 lin = -Scalar(2) * (w.s_up * spline::linear_moment(h, bd.s_ref[k0], s_slope, 0) +
                                            w.v * spline::linear_moment(h, bd.v_ref[k0], v_slope, 1));
     for (int i = 0; i < 6; ++i) {  // 6 block variables
-      problem_.g[v0 + i] += lin(i);
+      problem.g[v0 + i] += lin(i);
     }
     for (int k = 0; k < per; ++k) {  // samples per block
       const auto u = static_cast<std::size_t>(b * per + k);
@@ -83,32 +83,32 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
       const spline::Row6& r1 = r1s[static_cast<std::size_t>(k)];
       const spline::Row6& r2 = r2s[static_cast<std::size_t>(k)];
       for (int i = 0; i < 6 && !same_matrices; ++i) {  // rows touch the 6 block variables
-        static_cast<void>(problem_.push_row_entry(row, v0 + i, r0(i)));
-        static_cast<void>(problem_.push_row_entry(row + 1, v0 + i, r1(i)));
-        static_cast<void>(problem_.push_row_entry(row + 2, v0 + i, r2(i)));
+        static_cast<void>(problem.push_row_entry(row, v0 + i, r0(i)));
+        static_cast<void>(problem.push_row_entry(row + 1, v0 + i, r1(i)));
+        static_cast<void>(problem.push_row_entry(row + 2, v0 + i, r2(i)));
       }
       const bool at_start = b == 0 && k == 0;  // fixed by init_st
-      problem_.lba[row] = at_start ? -inf : bd.s_lo[u];
-      problem_.uba[row] = at_start ? inf : bd.s_hi[u];
-      problem_.lba[row + 1] = at_start ? -inf : bd.v_lo[u];
-      problem_.uba[row + 1] = at_start ? inf : bd.v_hi[u];
-      problem_.lba[row + 2] = at_start ? -inf : in.a_min;
-      problem_.uba[row + 2] = at_start ? inf : in.a_max;
+      problem.lba[row] = at_start ? -inf : bd.s_lo[u];
+      problem.uba[row] = at_start ? inf : bd.s_hi[u];
+      problem.lba[row + 1] = at_start ? -inf : bd.v_lo[u];
+      problem.uba[row + 1] = at_start ? inf : bd.v_hi[u];
+      problem.lba[row + 2] = at_start ? -inf : in.a_min;
+      problem.uba[row + 2] = at_start ? inf : in.a_max;
       row += 3;
     }
   }
   for (int j = 1; j < Cfg::kSpeedKnots; ++j) {  // knots after the start
     const auto u = static_cast<std::size_t>(j * per);
-    problem_.lb[var(j, 0)] = bd.s_lo[u];
-    problem_.ub[var(j, 0)] = bd.s_hi[u];
-    problem_.lb[var(j, 1)] = bd.v_lo[u];
-    problem_.ub[var(j, 1)] = bd.v_hi[u];
-    problem_.lb[var(j, 2)] = in.a_min;
-    problem_.ub[var(j, 2)] = in.a_max;
+    problem.lb[var(j, 0)] = bd.s_lo[u];
+    problem.ub[var(j, 0)] = bd.s_hi[u];
+    problem.lb[var(j, 1)] = bd.v_lo[u];
+    problem.ub[var(j, 1)] = bd.v_hi[u];
+    problem.lb[var(j, 2)] = in.a_min;
+    problem.ub[var(j, 2)] = in.a_max;
   }
-  problem_.lb[var(0, 0)] = problem_.ub[var(0, 0)] = 0;
-  problem_.lb[var(0, 1)] = problem_.ub[var(0, 1)] = in.v0;
-  problem_.lb[var(0, 2)] = problem_.ub[var(0, 2)] = in.a0;
+  problem.lb[var(0, 0)] = problem.ub[var(0, 0)] = 0;
+  problem.lb[var(0, 1)] = problem.ub[var(0, 1)] = in.v0;
+  problem.lb[var(0, 2)] = problem.ub[var(0, 2)] = in.a0;
 }
 
 template <class Cfg>
@@ -121,22 +121,18 @@ void BasicSpeedOptimizer<Cfg>::solve(const SpeedInput& in, const SpeedBounds& bo
     return;
   }
   // H and A depend only on h and the weights: hotstart whenever they match.
-  const bool same = h == factored_h_ && w.s_up == factored_weights_.s_up &&
-                    w.v == factored_weights_.v && w.a == factored_weights_.a &&
-                    w.jerk == factored_weights_.jerk;
-  build(in, bounds, w, h, same);
+  const SpeedMatrixKey key{h, w};
+  build(in, bounds, w, h, qp_.same_matrices(key));
   if (observer_ != nullptr && observer_->speed != nullptr) {
-    observer_->speed(observer_->context, problem_);
+    observer_->speed(observer_->context, qp_.problem());
   }
-  const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
-  factored_h_ = h;
-  factored_weights_ = w;
+  const qp::QpStatus st = qp_.solve(key);
   out.status = st;
-  out.iterations = result_.iterations;
+  out.iterations = qp_.result().iterations;
   out.h = h;
   if (qp::is_usable(st)) {
     for (int i = 0; i < Cfg::kSpeedVariables; ++i) {  // Cfg::kSpeedVariables
-      out.knots[static_cast<std::size_t>(i)] = result_.x[i];
+      out.knots[static_cast<std::size_t>(i)] = qp_.result().x[i];
     }
     spline::block_coefficients(h, out.knots.data(), Cfg::kSpeedBlocks, out.coefficients.data());
   }

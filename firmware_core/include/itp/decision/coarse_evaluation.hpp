@@ -16,15 +16,21 @@
 #include "itp/decision/motion_limits.hpp"
 #include "itp/qp/planner_observer.hpp"
 #include "itp/qp/qp.hpp"
+#include "itp/qp/stage_qp.hpp"
 
 namespace itp::decision {
 
-struct CoarseWeights {
-  // Eq. (2), the coarse QP.
+// Eq. (2), the coarse QP: its H depends on these alone (qp::StageQp's key).
+struct CoarseQpWeights {
   Scalar l_smooth = Scalar(10);   // second difference of l   [1/m^2]
   Scalar l_ref = Scalar(0.05);    // deviation from l_ref     [1/m^2]
   Scalar t_smooth = Scalar(10);   // second difference of t   [1/s^2]
   Scalar t_lb = Scalar(1);        // lateness versus t_lb     [1/s^2]
+  bool operator==(const CoarseQpWeights&) const = default;
+};
+
+struct CoarseWeights {
+  CoarseQpWeights qp{};
   // Eq. (4), PathCost and DynamicCost, one weight per term.
   Scalar kappa_mean = Scalar(10);     // w11 x mean |κ|      [m]
   Scalar kappa_var = Scalar(100);     // w12 x var κ         [m^2]
@@ -76,7 +82,7 @@ class BasicCoarseEvaluator {
   using Decision = BasicDecision<Cfg>;
 
   // Forget the factorisation: the next solve is cold.
-  void reset() { have_factor_ = false; }
+  void reset() { qp_.reset(); }
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
   void evaluate(const ConvexSpace& space, const Decision& decision, const CoarseInput& in,
                 const CoarseWeights& w, CoarseResult& out);
@@ -90,14 +96,9 @@ class BasicCoarseEvaluator {
              CoarseResult& out) const;
 
   using CoarseDims = qp::CoarseQpDims<Scalar, Cfg>;
-  qp::QpProblem<CoarseDims> problem_{};
-  qp::QpWorkspace<CoarseDims> workspace_{};
-  qp::QpResult<CoarseDims> result_{};
-  qp::QpSettings<Scalar> settings_{};
   // H depends only on the QP weights: while they stay the same, every solve
   // after the first is a hotstart (new g and bounds, same factorisation).
-  CoarseWeights factored_weights_{};
-  bool have_factor_ = false;
+  qp::StageQp<CoarseDims, CoarseQpWeights> qp_{};
   const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
 

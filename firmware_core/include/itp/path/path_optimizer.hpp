@@ -19,6 +19,7 @@
 #include "itp/decision/decision_tree.hpp"
 #include "itp/qp/planner_observer.hpp"
 #include "itp/qp/qp.hpp"
+#include "itp/qp/stage_qp.hpp"
 
 namespace itp::path {
 
@@ -28,6 +29,16 @@ struct PathWeights {
   Scalar d2 = Scalar(100);        // w2   [m]
   Scalar d3 = Scalar(2000);       // w3   [m^3]
   Scalar obstacle = Scalar(0.1);  // w_obs [1/m^3]
+  bool operator==(const PathWeights&) const = default;
+};
+
+// What the path QP's H and A depend on (qp::StageQp hotstarts when it is unchanged).
+struct PathMatrixKey {
+  Scalar h = 0;            // [m] block length
+  Scalar front_reach = 0;  // [m] rows of (8)
+  Scalar rear_reach = 0;   // [m]
+  PathWeights weights{};
+  bool operator==(const PathMatrixKey&) const = default;
 };
 
 template <class Cfg>
@@ -76,31 +87,23 @@ class BasicPathOptimizer {
   using Decision = decision::BasicDecision<Cfg>;
 
   // Forget the factorisation: the next solve is cold.
-  void reset() { have_factor_ = false; }
+  void reset() { qp_.reset(); }
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
   void solve(const ConvexSpace& space, const Decision& decision, const PathInput& in,
              const PathWeights& w, PathResult& out);
   // The QP of the last solve (for dumps and tests).
-  const qp::QpProblem<PathDims>& problem() const { return problem_; }
+  const qp::QpProblem<PathDims>& problem() const { return qp_.problem(); }
 
  private:
   // same_matrices: h, the reaches and the weights are the last build's (H and A kept).
   void build(const ConvexSpace& space, const Decision& decision, const PathInput& in,
              const PathWeights& w, Scalar h, bool same_matrices);
 
-  qp::QpProblem<PathDims> problem_{};
-  qp::QpWorkspace<PathDims> workspace_{};
-  qp::QpResult<PathDims> result_{};
   // A feasible path QP converges in under 30 iterations (hot) here; proving
   // infeasibility takes 110-130. The cap turns most of those into an early
   // iteration-limit failure at half the cost (same outcome: next decision).
-  qp::QpSettings<Scalar> settings_{.max_iterations = Cfg::kPathQpMaxIterations};
-  PathWeights factored_weights_{};
-  Scalar factored_h_ = 0;
-  Scalar factored_front_ = 0;
-  Scalar factored_rear_ = 0;
+  qp::StageQp<PathDims, PathMatrixKey> qp_{qp::QpSettings<Scalar>{.max_iterations = Cfg::kPathQpMaxIterations}};
   const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
-  bool have_factor_ = false;
 };
 
 using PathInput = BasicPathInput<DefaultConfig>;

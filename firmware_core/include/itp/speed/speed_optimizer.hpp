@@ -16,6 +16,7 @@
 #include "itp/config.hpp"
 #include "itp/qp/planner_observer.hpp"
 #include "itp/qp/qp.hpp"
+#include "itp/qp/stage_qp.hpp"
 
 namespace itp::speed {
 
@@ -24,6 +25,14 @@ struct SpeedWeights {
   Scalar v = Scalar(1);         // w1
   Scalar a = Scalar(2);         // w2
   Scalar jerk = Scalar(1);      // w3
+  bool operator==(const SpeedWeights&) const = default;
+};
+
+// What the speed QP's H and A depend on (qp::StageQp hotstarts when it is unchanged).
+struct SpeedMatrixKey {
+  Scalar h = 0;  // [s] block length
+  SpeedWeights weights{};
+  bool operator==(const SpeedMatrixKey&) const = default;
 };
 
 // Per-sample bounds and references at t_k = k * horizon / Cfg::kSpeedSamples
@@ -71,24 +80,18 @@ class BasicSpeedOptimizer {
   using SpeedResult = BasicSpeedResult<Cfg>;
 
   // Forget the factorisation: the next solve is cold.
-  void reset() { have_factor_ = false; }
+  void reset() { qp_.reset(); }
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
   void solve(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w,
              SpeedResult& out);
-  const qp::QpProblem<SpeedDims>& problem() const { return problem_; }
+  const qp::QpProblem<SpeedDims>& problem() const { return qp_.problem(); }
 
  private:
   // same_matrices: h and the weights are the last build's (H and A kept).
   void build(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w, Scalar h,
              bool same_matrices);
 
-  qp::QpProblem<SpeedDims> problem_{};
-  qp::QpWorkspace<SpeedDims> workspace_{};
-  qp::QpResult<SpeedDims> result_{};
-  qp::QpSettings<Scalar> settings_{};
-  SpeedWeights factored_weights_{};
-  Scalar factored_h_ = 0;
-  bool have_factor_ = false;
+  qp::StageQp<SpeedDims, SpeedMatrixKey> qp_{};
   const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
 

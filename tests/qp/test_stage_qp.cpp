@@ -1,0 +1,100 @@
+// qp::StageQp: a stage hotstarts exactly when its matrix key is unchanged.
+#include <doctest/doctest.h>
+
+#include <memory>
+#include <random>
+
+#include "itp/decision/coarse_evaluation.hpp"
+#include "itp/path/path_optimizer.hpp"
+#include "itp/qp/stage_qp.hpp"
+#include "itp/speed/speed_optimizer.hpp"
+#include "qp_test_util.hpp"
+
+using namespace itp::qp;
+
+namespace {
+
+using D = QpDims<double, 40, 80, 6, 4>;
+
+struct Key {
+  double h = 0;
+  double weight = 0;
+  bool operator==(const Key&) const = default;
+};
+
+struct Fixture {
+  StageQp<D, Key> stage;
+  QpWorkspace<D> ws;  // for independent cold solves
+  QpResult<D> cold;
+  QpSettings<double> settings;
+};
+
+}  // namespace
+
+TEST_CASE("StageQp: hot only with the same key; a new key or reset() solves cold, with the cold answer") {
+  auto f = std::make_unique<Fixture>();
+  std::mt19937 rng(7);
+  qp_test::BuildOptions o;
+  o.n = 40;
+  o.m = 80;
+  o.bandwidth = 4;
+  o.max_row_nnz = 6;
+  o.p_row_active = 0.3;
+  qp_test::build_random(f->stage.problem(), o, rng);
+  const Key a{1.0, 2.0};
+  CHECK_FALSE(f->stage.same_matrices(a));  // nothing built yet
+  REQUIRE(f->stage.solve(a) == QpStatus::kOptimal);
+  CHECK(f->stage.same_matrices(a));
+  CHECK_FALSE(f->stage.same_matrices(Key{1.0, 2.5}));
+  CHECK_FALSE(f->stage.same_matrices(Key{1.5, 2.0}));
+
+  // Same key, new g: a hotstart, the cold answer in fewer iterations.
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (int j = 0; j < o.n; ++j) f->stage.problem().g[j] += 0.05 * gauss(rng);
+  REQUIRE(f->stage.solve(a) == QpStatus::kOptimal);
+  REQUIRE(solve_cold(f->stage.problem(), f->ws, f->settings, f->cold) == QpStatus::kOptimal);
+  for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == doctest::Approx(f->cold.x[j]).epsilon(1e-9));
+  CHECK(f->stage.result().iterations < f->cold.iterations);
+
+  // After reset() the same key solves cold: the cold solve's iterations.
+  f->stage.reset();
+  REQUIRE(f->stage.solve(a) == QpStatus::kOptimal);
+  CHECK(f->stage.result().iterations == f->cold.iterations);
+
+  // A new H under a new key: cold, and the new problem's answer.
+  qp_test::build_random(f->stage.problem(), o, rng);
+  REQUIRE(f->stage.solve(Key{2.0, 2.0}) == QpStatus::kOptimal);
+  REQUIRE(solve_cold(f->stage.problem(), f->ws, f->settings, f->cold) == QpStatus::kOptimal);
+  CHECK(f->stage.result().iterations == f->cold.iterations);
+  for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == doctest::Approx(f->cold.x[j]).epsilon(1e-9));
+}
+
+TEST_CASE("the planner stages' matrix keys differ when any field differs") {
+  using itp::path::PathMatrixKey;
+  const PathMatrixKey p{5.0, 3.8, 1.0, {}};
+  PathMatrixKey q = p;
+  CHECK(p == q);
+  q.h = 5.5;                   CHECK_FALSE(p == q); q = p;
+  q.front_reach = 3.9;         CHECK_FALSE(p == q); q = p;
+  q.rear_reach = 1.1;          CHECK_FALSE(p == q); q = p;
+  q.weights.target *= 2;       CHECK_FALSE(p == q); q = p;
+  q.weights.d1 *= 2;           CHECK_FALSE(p == q); q = p;
+  q.weights.d2 *= 2;           CHECK_FALSE(p == q); q = p;
+  q.weights.d3 *= 2;           CHECK_FALSE(p == q); q = p;
+  q.weights.obstacle *= 2;     CHECK_FALSE(p == q);
+  using itp::speed::SpeedMatrixKey;
+  const SpeedMatrixKey s{0.5, {}};
+  SpeedMatrixKey t = s;
+  t.h = 0.6;                   CHECK_FALSE(s == t); t = s;
+  t.weights.s_up *= 2;         CHECK_FALSE(s == t); t = s;
+  t.weights.v *= 2;            CHECK_FALSE(s == t); t = s;
+  t.weights.a *= 2;            CHECK_FALSE(s == t); t = s;
+  t.weights.jerk *= 2;         CHECK_FALSE(s == t);
+  using itp::decision::CoarseQpWeights;
+  const CoarseQpWeights c{};
+  CoarseQpWeights e = c;
+  e.l_smooth *= 2;             CHECK_FALSE(c == e); e = c;
+  e.l_ref *= 2;                CHECK_FALSE(c == e); e = c;
+  e.t_smooth *= 2;             CHECK_FALSE(c == e); e = c;
+  e.t_lb *= 2;                 CHECK_FALSE(c == e);
+}
