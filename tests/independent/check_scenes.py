@@ -22,7 +22,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from geom import (Polyline, boundary_at, boxes_overlap, classify_contact,  # noqa: E402
+from geom import (Box, Polyline, boundary_at, boxes_overlap, classify_contact,  # noqa: E402
                   ego_box, obstacle_boxes_at)
 
 STEP = 0.1
@@ -149,6 +149,36 @@ def run_witness(scene, careful=True):
     return out
 
 
+def statics_passable(scene, clearance=0.3):
+    """True when every static obstacle ahead leaves a lateral gap of ego width + 2 clearance
+    between the road edges and the other statics beside it (a car can pass, possibly using
+    another lane); False means the scene's road is blocked by design (stopping is right)."""
+    frame = RoadFrame(scene)
+    ego = scene["ego"]
+    need = ego["width"] + 2 * clearance
+    road = scene["road"]
+    items = []
+    for o in scene.get("static_obstacles", []):
+        box = Box(o["x"], o["y"], o["heading"], o["length"], o["width"])
+        s, l, hs, hl, _, _, _ = frenet_extent(frame, box, 0.0, 0.0, None)
+        items.append((s - hs, s + hs, l - hl, l + hl))
+    for s_lo, s_hi, _, _ in items:
+        lo_s, hi_s = s_lo - ego["length"], s_hi + ego["length"]
+        ss = [lo_s + k * (hi_s - lo_s) / 10 for k in range(11)]
+        left = min(boundary_at(road["left_boundary"], s) for s in ss)
+        edge = max(boundary_at(road["right_boundary"], s) for s in ss)
+        beside = sorted((a, b) for s0, s1, a, b in items if s1 >= lo_s and s0 <= hi_s)
+        ok = False
+        for a, b in beside:
+            if a - edge >= need:
+                ok = True
+                break
+            edge = max(edge, b)
+        if not ok and left - edge < need:
+            return False
+    return True
+
+
 def check_format(scene):
     problems = []
     for key in ("format", "reference_line", "road", "ego"):
@@ -234,7 +264,8 @@ def check_scene(scene):
         problems.append("constant-speed lane keeper is hit: %s" % steady["contact"])
     scene.setdefault("judge", {})["witness"] = {
         "careful_peak_brake": round(careful["peak_brake"], 2),
-        "careful_min_gap": None if careful["min_gap"] is None else round(careful["min_gap"], 2)}
+        "careful_min_gap": None if careful["min_gap"] is None else round(careful["min_gap"], 2),
+        "statics_passable": statics_passable(scene)}
     return problems
 
 

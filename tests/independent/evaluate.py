@@ -89,10 +89,11 @@ def road_ahead_free(scene, rec, look_ahead=40.0):
     """Is there a lateral gap of ego width + 0.6 m within the road edges over the next
     `look_ahead` metres, given the obstacles there at the end of the run? Moving obstacles
     count only close ahead (15 m) — a leader that drives off frees the road — except oncoming
-    ones, which block their lane over 80 m."""
+    ones, which block their lane over 80 m. Queued behind a road user (the nearest obstacle
+    in the ego's corridor is a dynamic one, even if it stands) is not stuck: it may move on."""
     ego = scene["ego"]
     line = Polyline(scene["reference_line"])
-    s0, _, _, _ = line.project(rec["x"], rec["y"])
+    s0, l_ego, _, _ = line.project(rec["x"], rec["y"])
     front = 0.5 * (ego["length"] + ego["wheelbase"])
     road = scene["road"]
     ss = [s0 + k for k in range(0, int(look_ahead + front) + 1)]
@@ -101,7 +102,8 @@ def road_ahead_free(scene, rec, look_ahead=40.0):
     if s0 + front + 20.0 > line.cum[-1]:
         return False                       # the map ends: stopping is right
     blocked = []
-    for _, _, box, vx, vy in obstacle_boxes_at(scene, rec["t"]):
+    nearest_in_lane = None      # (distance, is_dynamic) of the closest obstacle in the corridor
+    for oid, kind, box, vx, vy in obstacle_boxes_at(scene, rec["t"]):
         s, l, th, _ = line.project(box.cx, box.cy)
         d = box.heading - th
         hs = abs(box.length / 2 * math.cos(d)) + abs(box.width / 2 * math.sin(d))
@@ -114,6 +116,12 @@ def road_ahead_free(scene, rec, look_ahead=40.0):
         if s + hs < s0 - 2.0 or s - hs > s0 + reach:
             continue
         blocked.append((l - hl, l + hl))
+        if abs(l_ego - l) < hl + ego["width"] / 2 and s > s0:
+            is_dynamic = any(o["id"] == oid for o in scene.get("dynamic_obstacles", []))
+            if nearest_in_lane is None or s < nearest_in_lane[0]:
+                nearest_in_lane = (s, is_dynamic)
+    if nearest_in_lane and nearest_in_lane[1]:
+        return False        # queued behind a road user (it may drive on): waiting is fine
     need = ego["width"] + 0.6
     edge = right
     for lo, hi in sorted(blocked):
@@ -165,6 +173,9 @@ def scene_record(scene, rep, cycles):
         "progress_m": round(rep.get("progress_m", 0.0), 1),
         "final_v": round(cycles[-1]["v"], 2) if cycles else None,
         "stuck": bool(cycles) and stuck(scene, cycles),
+        # the road is blocked by design (a stop is the right answer): its fallbacks are fine
+        "blocked_by_design": not scene.get("judge", {}).get("witness", {}).get(
+            "statics_passable", True),
     }
     if rec["min_clearance_m"] is not None:
         rec["min_clearance_m"] = round(rec["min_clearance_m"], 3)
@@ -180,6 +191,7 @@ def summarise(records):
         for k, v in r["fallback_reasons"].items():
             reasons[k] = reasons.get(k, 0) + v
     coll = [r for r in records if r["collision"]]
+    open_ = [r for r in records if not r["blocked_by_design"]]
     return {
         "scenes": len(records),
         "cycles": cycles,
@@ -192,6 +204,9 @@ def summarise(records):
         "fallback_cycles": fallbacks,
         "fallback_share": round(fallbacks / cycles, 4) if cycles else 0.0,
         "fallback_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])),
+        "scenes_blocked_by_design": sum(r["blocked_by_design"] for r in records),
+        "fallback_share_passable": round(
+            sum(r["fallbacks"] for r in open_) / max(1, sum(r["cycles"] for r in open_)), 4),
         "invalid_inputs": sum(r["invalid_inputs"] for r in records),
         "crashes": sum(r["crashed"] for r in records),
         "max_abs_lat_acc": max((r["max_abs_lat_acc"] for r in records), default=0.0),
@@ -212,9 +227,9 @@ def badness(r):
 
 def table(summary_by_arch, overall, title):
     cols = ["scenes", "collisions", "collisions_ran_into", "collisions_hit", "road_departures",
-            "fallback_share", "max_abs_lat_acc", "scenes_lat_acc_over_3",
+            "fallback_share", "fallback_share_passable", "max_abs_lat_acc", "scenes_lat_acc_over_3",
             "scenes_lat_acc_over_4", "max_abs_lon_acc", "scenes_harsh_braking", "stuck"]
-    heads = ["scenes", "coll", "ran_into", "hit", "depart", "fallback%", "max|a_lat|",
+    heads = ["scenes", "coll", "ran_into", "hit", "depart", "fallback%", "fb% passable","max|a_lat|",
              ">3", ">4", "max|a_lon|", "harsh", "stuck"]
     lines = ["### " + title, "",
              "| archetype | " + " | ".join(heads) + " | top fallback reasons |",
@@ -224,7 +239,7 @@ def table(summary_by_arch, overall, title):
         vals = []
         for c in cols:
             v = s[c]
-            if c == "fallback_share":
+            if c.startswith("fallback_share"):
                 vals.append("%.1f" % (100 * v))
             elif isinstance(v, float):
                 vals.append("%.2f" % v)
