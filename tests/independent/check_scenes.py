@@ -102,7 +102,7 @@ def run_witness(scene, careful=True):
     v, v_des = ego["v"], scene["road"]["speed_limit"]
     wall = lane_end_wall(scene, s, width / 2 + 0.1) if careful else None
     duration = scene.get("duration", 12.0)
-    hints = {}
+    hints, prev_boxes, me_prev = {}, {}, None
     out = {"contact": None, "min_gap": None, "peak_brake": 0.0}
     t = 0.0
     while t <= duration + 1e-9:
@@ -116,8 +116,10 @@ def run_witness(scene, careful=True):
             if abs(box.cx - me.cx) > 200 or abs(box.cy - me.cy) > 200:
                 continue
             if boxes_overlap(me, box) and out["contact"] is None:
-                out["contact"] = dict(classify_contact(me, me_v, box, (vx, vy)), t=round(t, 1),
-                                      obstacle=oid, kind=kind)
+                out["contact"] = dict(classify_contact(me, me_v, box, (vx, vy), me_prev,
+                                                       prev_boxes.get(oid)),
+                                      t=round(t, 1), obstacle=oid, kind=kind)
+            prev_boxes[oid] = box
             if not careful:
                 continue
             os_, ol, hs, hl, vs, vl, seg = frenet_extent(frame, box, vx, vy, hints.get(oid))
@@ -135,6 +137,7 @@ def run_witness(scene, careful=True):
                 leader_gap, leader_v = gap, max(0.0, vs)
             if abs(ol) - hl < width / 2 and (out["min_gap"] is None or gap < out["min_gap"]):
                 out["min_gap"] = gap
+        me_prev = me
         if careful:
             a = max(-MAX_BRAKE, min(IDM_ACCEL, idm(v, v_des, leader_gap, leader_v)))
             if v <= 0.0 and a < 0.0:

@@ -64,8 +64,10 @@ def first_collision(scene, cycles):
     """At the first cycle flagged as a collision: the obstacle whose box overlaps the ego's,
     and who ran into whom. The trace's x, y is the rear axle (checked: SAT agrees)."""
     ego = scene["ego"]
+    prev = None
     for rec in cycles:
         if not rec.get("collision"):
+            prev = rec
             continue
         me = ego_box(rec["x"], rec["y"], rec["heading"], ego["length"], ego["width"],
                      ego["wheelbase"])
@@ -77,7 +79,13 @@ def first_collision(scene, cycles):
         # the one the ego's centre is closest to is the contact that matters
         oid, kind, box, vx, vy = min(hits, key=lambda h: math.hypot(h[2].cx - me.cx,
                                                                     h[2].cy - me.cy))
-        out = classify_contact(me, me_v, box, (vx, vy))
+        me_prev = box_prev = None
+        if prev is not None:      # the step before: across which side they came together
+            me_prev = ego_box(prev["x"], prev["y"], prev["heading"], ego["length"],
+                              ego["width"], ego["wheelbase"])
+            box_prev = next((b for i, _, b, _, _ in obstacle_boxes_at(scene, prev["t"])
+                             if i == oid), None)
+        out = classify_contact(me, me_v, box, (vx, vy), me_prev, box_prev)
         out.update(t=rec["t"], obstacle=oid, kind=kind, ego_v=round(rec["v"], 2),
                    obstacle_v=round(math.hypot(vx, vy), 2), status=rec["status"],
                    reason=rec.get("reason", ""), decisions=rec.get("decisions", ""))
@@ -146,6 +154,25 @@ def stuck(scene, cycles):
 # --------------------------------------------------------------------------------------------
 # Per scene and per archetype
 # --------------------------------------------------------------------------------------------
+def nearest_ahead_in_lane(scene, rec):
+    """(kind, id, bumper gap) of the nearest obstacle ahead overlapping the ego's corridor at
+    the end of the run: what a stopped ego is waiting behind."""
+    ego = scene["ego"]
+    line = Polyline(scene["reference_line"])
+    s0, l0, _, _ = line.project(rec["x"], rec["y"])
+    front = 0.5 * (ego["length"] + ego["wheelbase"])
+    best = None
+    for oid, kind, box, _, _ in obstacle_boxes_at(scene, rec["t"]):
+        s, l, th, _ = line.project(box.cx, box.cy)
+        d = box.heading - th
+        hs = abs(box.length / 2 * math.cos(d)) + abs(box.width / 2 * math.sin(d))
+        hl = abs(box.length / 2 * math.sin(d)) + abs(box.width / 2 * math.cos(d))
+        gap = s - hs - (s0 + front)
+        if abs(l - l0) < hl + ego["width"] / 2 and gap > -1.0 and (best is None or gap < best[2]):
+            best = (kind, oid, round(gap, 2))
+    return best
+
+
 def scene_record(scene, rep, cycles):
     a_lon = [c.get("a_lon", 0.0) for c in cycles]
     reasons = {}
@@ -173,6 +200,11 @@ def scene_record(scene, rep, cycles):
         "progress_m": round(rep.get("progress_m", 0.0), 1),
         "final_v": round(cycles[-1]["v"], 2) if cycles else None,
         "stuck": bool(cycles) and stuck(scene, cycles),
+        "first_fallback": next(({"t": round(c["t"], 1), "reason": c.get("reason", ""),
+                                 "v": round(c["v"], 2)} for c in cycles
+                                if c["status"] == "fallback"), None),
+        "ends_behind": nearest_ahead_in_lane(scene, cycles[-1]) if cycles and
+        cycles[-1]["v"] <= STOPPED_V else None,
         # the road is blocked by design (a stop is the right answer): its fallbacks are fine
         "blocked_by_design": not scene.get("judge", {}).get("witness", {}).get(
             "statics_passable", True),
@@ -303,7 +335,8 @@ def main(argv=None):
               "overall": overall, "per_archetype": summary_by_arch,
               "worst": [{k: r[k] for k in ("name", "file", "archetype", "collision",
                                            "collision_detail", "road_departure", "stuck",
-                                           "fallbacks", "fallback_reasons", "max_abs_lat_acc",
+                                           "fallbacks", "fallback_reasons", "first_fallback",
+                                           "ends_behind", "max_abs_lat_acc",
                                            "min_a_lon", "progress_m", "final_v")}
                         for r in worst if badness(r) > 0],
               "scenes": records}

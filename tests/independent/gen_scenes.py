@@ -660,8 +660,10 @@ def arch_overtaker(sc):
     lane = rng.choice([j for j in lanes if abs(j - sc.ego_lane) == 1] or lanes)
     count = rng.randint(1, 3)
     s = S_EGO0 - sc.rear - rng.uniform(15.0, 60.0)
+    v = round(max(sc.v0, 2.0) + rng.uniform(3.0, 8.0), 2)
     for _ in range(count):
-        v = round(max(sc.v0, 2.0) + rng.uniform(3.0, 8.0), 2)
+        # each one no faster than the one ahead of it: they never close up on each other
+        v = round(max(max(sc.v0, 2.0) + 3.0, v - rng.uniform(0.0, 2.0)), 2)
         length, width, _ = vehicle_size(rng, sc.w)
         sc.add_dynamic("overtaker", Motion(s - length / 2, v, sc.lane_l(lane)), length, width)
         s -= length + rng.uniform(15.0, 40.0)

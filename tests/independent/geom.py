@@ -232,22 +232,57 @@ def obstacle_boxes_at(scene, t):
     return out
 
 
-def classify_contact(ego, ego_v, obstacle, obs_v):
-    """Who ran into whom at a contact. u = unit vector from the ego's centre to the obstacle's;
-    the ego's share of the closing speed is ego_v . u, the obstacle's is -obs_v . u. The one
-    with the larger share ran into the other ('ran_into': the ego; 'hit': the obstacle).
-    The location (front / rear / left / right) is where the obstacle's centre lies in the ego's
-    frame, scaled by the ego's half length and half width."""
+def contact_normal(a, b, a_prev=None, b_prev=None):
+    """Unit contact direction from a's centre towards b's. With the boxes one step before the
+    contact (a_prev, b_prev, disjoint), it is the SAT axis that separated them most then: the
+    side across which they came together (a deep step into a car's rear is then still a
+    rear contact). Otherwise the axis of least penetration now."""
+    best = None
+    if a_prev is not None and b_prev is not None and not boxes_overlap(a_prev, b_prev):
+        ca, cb = a_prev.corners(), b_prev.corners()
+        for axis in a_prev.axes() + b_prev.axes():
+            lo_a, hi_a = _projection_interval(ca, axis)
+            lo_b, hi_b = _projection_interval(cb, axis)
+            gap = max(lo_b - hi_a, lo_a - hi_b)
+            if best is None or gap > best[0]:
+                best = (gap, axis)
+        ref = (b_prev.cx - a_prev.cx, b_prev.cy - a_prev.cy)
+    else:
+        ca, cb = a.corners(), b.corners()
+        for axis in a.axes() + b.axes():
+            lo_a, hi_a = _projection_interval(ca, axis)
+            lo_b, hi_b = _projection_interval(cb, axis)
+            depth = min(hi_a - lo_b, hi_b - lo_a)
+            if best is None or -depth > best[0]:
+                best = (-depth, axis)
+        ref = (b.cx - a.cx, b.cy - a.cy)
+    ux, uy = best[1]
+    if ref[0] * ux + ref[1] * uy < 0:
+        ux, uy = -ux, -uy
+    return ux, uy
+
+
+def classify_contact(ego, ego_v, obstacle, obs_v, ego_prev=None, obstacle_prev=None):
+    """Who ran into whom at a contact. u = the contact direction from the ego towards the
+    obstacle (contact_normal); the ego's share of the closing speed is ego_v . u, the
+    obstacle's is -obs_v . u. The one with the larger share ran into the other ('ran_into':
+    the ego; 'hit': the obstacle: a rear-end or a cut into the ego's side); a tie (both
+    shares within 0.05 m/s) goes to the faster one. The location (front / rear / left /
+    right) is where the obstacle's centre lies in the ego's frame, scaled by the ego's half
+    length and half width."""
+    ux, uy = contact_normal(ego, obstacle, ego_prev, obstacle_prev)
     rx, ry = obstacle.cx - ego.cx, obstacle.cy - ego.cy
-    dist = math.hypot(rx, ry) or 1e-9
-    ux, uy = rx / dist, ry / dist
     ego_share = ego_v[0] * ux + ego_v[1] * uy
     obs_share = -(obs_v[0] * ux + obs_v[1] * uy)
+    if abs(ego_share - obs_share) < 0.05:
+        ego_first = math.hypot(*ego_v) >= math.hypot(*obs_v)
+    else:
+        ego_first = ego_share > obs_share
     c, s = math.cos(ego.heading), math.sin(ego.heading)
     fwd, left = rx * c + ry * s, -rx * s + ry * c
     if abs(fwd) / (ego.length / 2) >= abs(left) / (ego.width / 2):
         location = "front" if fwd > 0 else "rear"
     else:
         location = "left" if left > 0 else "right"
-    return {"who": "ran_into" if ego_share >= obs_share else "hit", "location": location,
+    return {"who": "ran_into" if ego_first else "hit", "location": location,
             "ego_share": round(ego_share, 2), "obstacle_share": round(obs_share, 2)}
