@@ -196,6 +196,9 @@ def scene_record(scene, rep, cycles):
         "max_abs_lon_acc": round(rep["max_abs_lon_acc"], 3),
         "min_a_lon": round(min(a_lon), 3) if a_lon else 0.0,
         "harsh_brake_cycles": sum(1 for a in a_lon if a < HARSH_BRAKE),
+        # the lane-keeping careful driver of check_scenes.py got by with <= 3 m/s^2 here
+        "witness_peak_brake": scene.get("judge", {}).get("witness", {}).get(
+            "careful_peak_brake"),
         "min_clearance_m": rep.get("min_clearance_m"),
         "progress_m": round(rep.get("progress_m", 0.0), 1),
         "final_v": round(cycles[-1]["v"], 2) if cycles else None,
@@ -247,6 +250,12 @@ def summarise(records):
         "max_abs_lon_acc": max((r["max_abs_lon_acc"] for r in records), default=0.0),
         "scenes_harsh_braking": sum(r["harsh_brake_cycles"] > 0 for r in records),
         "harsh_brake_cycles": sum(r["harsh_brake_cycles"] for r in records),
+        "scenes_harsh_braking_unneeded": sum(
+            r["harsh_brake_cycles"] > 0 and (r["witness_peak_brake"] or 0.0) <= 3.0
+            for r in records),
+        "scenes_min_clearance_below_0_3": sum(
+            r["min_clearance_m"] is not None and 0.0 < r["min_clearance_m"] < 0.3
+            for r in records),
         "stuck": sum(r["stuck"] for r in records),
     }
 
@@ -260,9 +269,10 @@ def badness(r):
 def table(summary_by_arch, overall, title):
     cols = ["scenes", "collisions", "collisions_ran_into", "collisions_hit", "road_departures",
             "fallback_share", "fallback_share_passable", "max_abs_lat_acc", "scenes_lat_acc_over_3",
-            "scenes_lat_acc_over_4", "max_abs_lon_acc", "scenes_harsh_braking", "stuck"]
+            "scenes_lat_acc_over_4", "max_abs_lon_acc", "scenes_harsh_braking",
+            "scenes_harsh_braking_unneeded", "scenes_min_clearance_below_0_3", "stuck"]
     heads = ["scenes", "coll", "ran_into", "hit", "depart", "fallback%", "fb% passable","max|a_lat|",
-             ">3", ">4", "max|a_lon|", "harsh", "stuck"]
+             ">3", ">4", "max|a_lon|", "harsh", "harsh unneeded", "clear<0.3", "stuck"]
     lines = ["### " + title, "",
              "| archetype | " + " | ".join(heads) + " | top fallback reasons |",
              "|---" * (len(heads) + 2) + "|"]
