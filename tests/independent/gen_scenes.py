@@ -121,14 +121,6 @@ class Motion:
             k_next += 1
         return out
 
-    def state_at(self, t):
-        """(s, v) at time t (coarse, for placing actors by rules)."""
-        best = None
-        for smp in self.samples(min(t + DT, DURATION)):
-            if smp[0] <= t + 1e-9:
-                best = smp
-        return best[1], abs(best[3])
-
 
 def ego_progress(s0, v0, limit, t, accel=EGO_MAX_ACCEL):
     """(s, v) of the fastest reasonable ego: full acceleration to the limit from the start."""
@@ -976,7 +968,7 @@ def generate_one(seed, index, name, build, max_tries=30):
         problems = check_scenes.check_scene(scene)
         if not problems:
             scene["judge"]["attempts"] = attempt + 1
-            return scene, attempt + 1, []
+            return scene, attempt + 1
         last = problems
     raise RuntimeError("%s: no valid scene after %d tries: %s" % (name, max_tries, last))
 
@@ -1003,7 +995,7 @@ def main(argv=None):
     retries = {}
     for i, (arch, build) in enumerate(plan):
         name = "judge-s%d-%s-%03d-%s" % (args.seed, args.set, i, arch)
-        scene, tries, _ = generate_one(args.seed * 100003 + (7 if args.set == "stress" else 0),
+        scene, tries = generate_one(args.seed * 100003 + (7 if args.set == "stress" else 0),
                                        i, name, build)
         retries[arch] = retries.get(arch, 0) + tries - 1
         with open(os.path.join(args.out, name + ".json"), "w") as f:
