@@ -34,9 +34,11 @@ std::uint64_t now_ns() {
 std::vector<itp::scene::Scene> make_scenes(int count, const hil::sim::GeneratorConfig& config) {
   std::vector<itp::scene::Scene> scenes;
   for (const hil::sim::World& w : hil::sim::default_suite(count, kSeed, config)) {
-    itp::scene::Scene s;
-    if (hil::sim::make_planner_scene(w, hil::sim::ego_at_start(w), 0.0, hil::sim::Prediction::kGroundTruth, s).ok) {
-      scenes.push_back(s);
+    scenes.emplace_back();
+    if (!hil::sim::make_planner_scene(w, hil::sim::ego_at_start(w), 0.0, hil::sim::Prediction::kGroundTruth,
+                                      scenes.back())
+             .ok) {
+      scenes.pop_back();
     }
   }
   return scenes;

@@ -55,3 +55,52 @@ TEST_CASE("StaticVector exposes a capacity-free span") {
   CHECK(s.size() == 2);
   CHECK(s[1] == doctest::Approx(2.5));
 }
+
+namespace {
+
+// An ordinary function (no template on the capacity) that fills any
+// StaticVector through its capacity-free base.
+int fill_squares(itp::VectorBase<int>& v, int count) {
+  v.clear();
+  int pushed = 0;
+  for (int i = 0; i < count; ++i) {
+    if (!v.push_back(i * i)) break;
+    ++pushed;
+  }
+  return pushed;
+}
+
+}  // namespace
+
+TEST_CASE("VectorBase: one non-template function fills vectors of any capacity") {
+  StaticVector<int, 3> small;
+  StaticVector<int, 8> large;
+  CHECK(fill_squares(small, 5) == 3);
+  CHECK(fill_squares(large, 5) == 5);
+  CHECK(small.capacity() == 3);
+  CHECK(static_cast<itp::VectorBase<int>&>(large).capacity() == 8);
+  CHECK(std::vector<int>(large.begin(), large.end()) == std::vector<int>{0, 1, 4, 9, 16});
+  // Assigning across capacities through the base cuts to the target's.
+  itp::VectorBase<int>& small_base = small;
+  CHECK_FALSE(small_base.assign(large));
+  CHECK(std::vector<int>(small.begin(), small.end()) == std::vector<int>{0, 1, 4});
+}
+
+TEST_CASE("StaticVector copies own their storage: changing a copy leaves the original") {
+  StaticVector<int, 4> a;
+  REQUIRE(a.push_back(1));
+  REQUIRE(a.push_back(2));
+  StaticVector<int, 4> b = a;  // copy construction
+  StaticVector<int, 4> c;
+  c = a;                       // copy assignment
+  b[0] = 10;
+  c[1] = 20;
+  REQUIRE(b.push_back(3));
+  CHECK(a.size() == 2);
+  CHECK(a[0] == 1);
+  CHECK(a[1] == 2);
+  CHECK(b.data() != a.data());
+  CHECK(c.data() != a.data());
+  CHECK(b[0] == 10);
+  CHECK(c[1] == 20);
+}
