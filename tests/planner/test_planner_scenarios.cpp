@@ -75,13 +75,26 @@ TEST_CASE("every lane blocked: fallback that stops before the obstacle within th
 }
 
 TEST_CASE("crossing pedestrian: the ego yields") {
+  // A pedestrian (0.8 m) crosses at x = 32 m from y = -5 m at 1.3 m/s: it is
+  // in the ego's lane (|y| < 1.75 m, plus its half size) from 2.2 s to
+  // 5.5 s, when the ego at 10 m/s would be there (its front reaches x = 32 m
+  // after 2.8 s). The ego must stop short of the crossing while it is there.
   Scene s = road_scene(1, 0);
-  add_mover(s, 9, 32, -5, M_PI / 2, 1.3, 0.8, 0.8);
+  const double x_ped = 32;
+  add_mover(s, 9, x_ped, -5, M_PI / 2, 1.3, 0.8, 0.8);
   Run r;
   r.go(s);
   CHECK(r.status == itp::PlanStatus::kOk);
   check_limits(s, *r.plan);
   CHECK(min_clearance(s, *r.plan) >= 0.5);
+  CHECK(decision_for(*r.plan, 9).longitudinal == itp::speed::Longitudinal::kYield);
+  const double front = s.ego.geometry.length - rear_overhang(s);
+  for (const TrajectoryPoint& q : r.plan->trajectory) {
+    const double y_ped = -5 + 1.3 * q.t;
+    if (std::fabs(y_ped) < 1.75 + 0.4) {
+      CHECK(q.x + front < x_ped - 0.4);
+    }
+  }
 }
 
 TEST_CASE("curved road of 50 m radius: lateral acceleration within its limit") {

@@ -24,9 +24,11 @@ struct Instance {
   QpResult<D> result;
 };
 
-// Solves under a heap guard and checks against the construction.
+// Solves under a heap guard and checks against the construction; true when
+// the solve is optimal, x matches x* and the KKT residuals are small (so a
+// caller's count of passing instances can fall short).
 template <class D>
-void solve_and_check(Instance<D>& in, const qp_test::Constructed& c, double x_tol,
+bool solve_and_check(Instance<D>& in, const qp_test::Constructed& c, double x_tol,
                      double kkt_tol) {
   QpSettings<typename D::Scalar> settings;
   QpStatus st;
@@ -34,16 +36,24 @@ void solve_and_check(Instance<D>& in, const qp_test::Constructed& c, double x_to
     test_support::HeapGuard guard;
     st = solve_cold(in.problem, in.ws, settings, in.result);
   }
-  REQUIRE(st == QpStatus::kOptimal);
+  CHECK(st == QpStatus::kOptimal);
+  if (st != QpStatus::kOptimal) {
+    return false;
+  }
   const double scale = 1.0 + qp_test::max_abs(c.x) + qp_test::max_abs(c.y_rows) +
                        qp_test::max_abs(c.y_bounds);
-  CHECK(qp_test::max_abs_diff(in.result, c.x, in.problem.n) <= x_tol * scale);
+  const bool x_ok = qp_test::max_abs_diff(in.result, c.x, in.problem.n) <= x_tol * scale;
+  CHECK(x_ok);
   const auto kkt = kkt_residual(in.problem, in.result);
-  CHECK(static_cast<double>(kkt.max()) <= kkt_tol * scale * scale);
+  const bool kkt_ok = static_cast<double>(kkt.max()) <= kkt_tol * scale * scale;
+  CHECK(kkt_ok);
   // A nonzero constructed multiplier means x* is not the unconstrained optimum.
+  bool moved = true;
   if (qp_test::max_abs(c.y_rows) + qp_test::max_abs(c.y_bounds) > 0.0) {
-    CHECK(in.result.iterations > 0);
+    moved = in.result.iterations > 0;
+    CHECK(moved);
   }
+  return x_ok && kkt_ok && moved;
 }
 
 }  // namespace
@@ -67,8 +77,7 @@ TEST_CASE("constructed optimum: random banded QPs, n = 2..130, double") {
       CAPTURE(n);
       CAPTURE(rep);
       const auto c = qp_test::build_random(in->problem, o, rng);
-      solve_and_check(*in, c, 1e-6, 1e-7);
-      ++solved;
+      solved += solve_and_check(*in, c, 1e-6, 1e-7) ? 1 : 0;
     }
   }
   CHECK(solved == 60);

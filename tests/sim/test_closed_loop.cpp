@@ -196,19 +196,29 @@ class CountingEndpoint final : public PlannerEndpoint {
 
 }  // namespace
 
-TEST_CASE("closed loop: decision-stage runs stay within the per-cycle budget, and running out is a safe fallback") {
-  // paper-0136 of seed 1: without the budget some cycles ran 30 decision
-  // stages (5 iterations x 6 rounds); every one of those ended in a fallback.
-  const World w = generate_scene(1, 136);
-  CountingEndpoint ep;
-  const SceneRunResult r = run_scene(w, ep, RunOptions{});
-  CHECK(r.error.empty());
-  CHECK(ep.max_runs <= itp::DefaultConfig::kMaxDecisionRunsPerCycle);
-  WARN_MESSAGE(ep.at_budget > 0, "the scene no longer reaches the decision budget");
-  CHECK_FALSE(r.summary.collided());
-  CHECK_FALSE(r.summary.departed());
-  MESSAGE("paper-0136: max decision runs per cycle " << ep.max_runs << ", cycles at the budget " << ep.at_budget
-                                                    << " (" << ep.ok_at_budget << " still ok)");
+TEST_CASE("closed loop: cycles that reach the decision-stage budget stay within it and stay safe") {
+  // Generated scenes whose cycles need more decision-stage runs than the
+  // budget (kMaxDecisionRunsPerCycle) allows: without it some cycles ran 30
+  // (5 iterations x 6 rounds). The scenes were found by scanning seeds 1, 5
+  // and 7 (at-budget cycles per scene at the time: 16, 5, 5, 3); the test
+  // needs the budget to be reached in at least one of them (pick others if
+  // the planner no longer needs it there).
+  int at_budget = 0;
+  int ok_at_budget = 0;
+  for (const auto& [seed, index] : {std::pair{5, 163}, std::pair{5, 178}, std::pair{1, 193}, std::pair{1, 186}}) {
+    const World w = generate_scene(static_cast<std::uint64_t>(seed), index);
+    CountingEndpoint ep;
+    const SceneRunResult r = run_scene(w, ep, RunOptions{});
+    CAPTURE(w.name);
+    CHECK(r.error.empty());
+    CHECK(ep.max_runs <= itp::DefaultConfig::kMaxDecisionRunsPerCycle);
+    CHECK_FALSE(r.summary.collided());
+    CHECK_FALSE(r.summary.departed());
+    at_budget += ep.at_budget;
+    ok_at_budget += ep.ok_at_budget;
+  }
+  CHECK(at_budget > 0);
+  MESSAGE("cycles at the decision budget: " << at_budget << " (" << ok_at_budget << " still ok)");
 }
 
 TEST_CASE("closed loop: more traffic in range than the scene holds never ends the run, and what was left out is counted") {
