@@ -98,8 +98,7 @@ struct DefaultSizes {
   // cycle, over all iterations and their rounds (a round leaves one more moving
   // obstacle to the ST graph); without it up to kMaxPlannerIterations x
   // (kMaxDynamicObstacles + 1) = 30. A cycle that needs more falls back (WCET
-  // bound). Closed loop, seeds 1-3 (72 000 cycles): 99.9 % of ok cycles need
-  // <= 15, and 15 costs < 1 % more fallbacks (12: 2-4 %, 10: 5-7 %).
+  // bound); the value's cost in fallbacks: docs/performance.md, "Worst case".
   static constexpr int kMaxDecisionRunsPerCycle = 15;
 };
 

@@ -7,7 +7,7 @@ namespace itp::decision {
 template <class Cfg>
 BasicLateralProfile<Cfg> BasicLateralProfile<Cfg>::constant(Scalar l) {
   BasicLateralProfile p;
-  static_cast<void>(p.add(Scalar(0), l));
+  static_cast<void>(p.add(Scalar(0), l));  // the first point of an empty profile
   return p;
 }
 

@@ -281,7 +281,7 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
     if (p.conservative && d.decision == Longitudinal::kOvertake) {
       d.decision = Longitudinal::kYield;
     }
-    static_cast<void>(decisions_.push_back(d));
+    static_cast<void>(decisions_.push_back(d));  // one per track <= kMaxDynamicObstacles = capacity
   }
   // Upper bounds first (yield, follow), then overtakes, each only if it is
   // consistent with them and reachable at full acceleration (s_ref); an
