@@ -160,7 +160,13 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
   res.static_left_out = keep_most_relevant(statics, out.static_obstacles);
 
   std::vector<Candidate<itp::scene::BasicDynamicObstacle<Cfg>>> dynamics;
-  const int steps = static_cast<int>(std::lround((kHorizon + 0.5) / kPredictionStep));
+  // Every 0.1 s, or the smallest multiple of it whose samples over the
+  // horizon (+0.5 s) Cfg holds (the road configuration: 0.2 s).
+  double step = kPredictionStep;
+  while (std::lround((kHorizon + 0.5) / step) + 1 > Cfg::kMaxPredictionSamples) {  // a few turns
+    step += kPredictionStep;
+  }
+  const int steps = static_cast<int>(std::lround((kHorizon + 0.5) / step));
   for (const DynamicObstacle& o : w.dynamic_obstacles) {
     const std::optional<Pose> current = pose_at(o, now);
     const double v_now = [&] {
@@ -180,7 +186,7 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
     d.length = o.length;
     d.width = o.width;
     for (int k = 0; k <= steps; ++k) {
-      const double t = kPredictionStep * k;
+      const double t = step * k;
       itp::scene::TimedPose p;
       p.t = now + t;  // scene time: the planner samples predictions from its request's `now`
       if (mode == Prediction::kGroundTruth) {

@@ -43,9 +43,9 @@ struct ConvertResult {
   int left_out() const { return static_left_out + dynamic_left_out; }
 };
 
-// Predictions are sampled every 0.1 s from `now` over the horizon (plus 0.5 s,
-// as far as Cfg holds), time-stamped in scene time: plan the result with
-// PlanRequest::now = now. Compiled for every configuration of ITP_FOR_EACH_CONFIG.
+// Predictions are sampled every 0.1 s from `now` over the horizon plus 0.5 s
+// (every 0.2 s, 0.3 s, ... when Cfg holds too few samples for that),
+// time-stamped in scene time: plan the result with PlanRequest::now = now. Compiled for every configuration of ITP_FOR_EACH_CONFIG.
 template <class Cfg>
 ConvertResult make_planner_scene(const World& world, const EgoNow& ego, double now, Prediction mode,
                                  itp::scene::BasicScene<Cfg>& out);

@@ -79,6 +79,12 @@ struct DefaultSizes {
   static constexpr int kMaxPredictionSamples = 80;  // poses per dynamic obstacle
 
   // Convex space and decision (paper 1.1)
+  // The objects that take part in the decision stage, at most (the paper's
+  // envelope). A scene that holds more gives them the most relevant ones
+  // (planner/sl_scene: the nearest ahead); every object of the scene is still
+  // respected by the ST graph and the collision check.
+  static constexpr int kDecisionStaticObstacles = 10;
+  static constexpr int kDecisionDynamicObstacles = 5;
   static constexpr int kKeptDecisions = 20;  // K best decisions evaluated
   // Decision-tree search: nodes (zone visits) expanded per cycle, at most. The
   // branch-and-bound search stops there and keeps the best K found so far.
@@ -100,6 +106,10 @@ struct DefaultSizes {
   // (kMaxDynamicObstacles + 1) = 30. A cycle that needs more falls back (WCET
   // bound); the value's cost in fallbacks: docs/performance.md, "Worst case".
   static constexpr int kMaxDecisionRunsPerCycle = 15;
+
+  // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
+  // time in planner.cpp on every target; docs/performance.md, "Memory").
+  static constexpr unsigned long kPlannerBytesBudget = 340000;
 };
 
 template <class Sizes>
@@ -111,10 +121,19 @@ struct Configuration : Sizes {
   // t = 0, step, ..., horizon
   static constexpr int kTrajectorySamples =
       static_cast<int>(kSpeedHorizon / kTrajectoryStep + Scalar(0.5)) + 1;
-  // Each obstacle contributes at most two cuts in s, hence at most 2N+1 slices.
+  // Objects in a scene (and decisions a plan reports: one per object).
   static constexpr int kMaxObstacles = kMaxStaticObstacles + kMaxDynamicObstacles;
-  static constexpr int kMaxSlices = 2 * kMaxObstacles + 1;
-  static constexpr int kMaxZonesPerSlice = kMaxObstacles + 1;  // gaps between N intervals
+  // Objects in the decision stage: the scene's, at most Sizes' decision capacities.
+  static constexpr int kDecisionStatics = Sizes::kDecisionStaticObstacles < kMaxStaticObstacles
+                                              ? Sizes::kDecisionStaticObstacles
+                                              : kMaxStaticObstacles;
+  static constexpr int kDecisionDynamics = Sizes::kDecisionDynamicObstacles < kMaxDynamicObstacles
+                                               ? Sizes::kDecisionDynamicObstacles
+                                               : kMaxDynamicObstacles;
+  static constexpr int kMaxDecisionObstacles = kDecisionStatics + kDecisionDynamics;
+  // Each SL box contributes at most two cuts in s, hence at most 2N+1 slices.
+  static constexpr int kMaxSlices = 2 * kMaxDecisionObstacles + 1;
+  static constexpr int kMaxZonesPerSlice = kMaxDecisionObstacles + 1;  // gaps between N intervals
   static constexpr int kMaxZones = kMaxSlices * kMaxZonesPerSlice;
   static constexpr int kKnotStates = 3;  // (value, 1st, 2nd derivative) per knot
   static constexpr int kPathVariables = (kPathBlocks + 1) * kKnotStates;
@@ -147,7 +166,7 @@ struct Configuration : Sizes {
                     kMaxDynamicObstacles >= 0,
                 "bad scene capacities");
   static_assert(kMaxZonesPerSlice <= 16, "zone successors are a 16-bit mask");
-  static_assert(kMaxZones < 32767 && kMaxObstacles < 32767, "zone and box indices are int16");
+  static_assert(kMaxZones < 32767 && kMaxDecisionObstacles < 32767, "zone and box indices are int16");
   static_assert(kKeptDecisions >= 1 && Sizes::kMaxTreeNodes >= kMaxSlices &&
                     Sizes::kCoarseSamples >= 3,
                 "bad decision sizes");

@@ -27,12 +27,27 @@ struct CompactSizes : DefaultSizes {
   static constexpr int kSpeedBlocks = 10;
   static constexpr int kMaxPlannerIterations = 4;
   static constexpr int kMaxPathSolvesPerCycle = 8;
+  static constexpr unsigned long kPlannerBytesBudget = 160000;
 };
 using CompactConfig = Configuration<CompactSizes>;
+
+// A road ECU fed by sensor fusion: its object list, up to 32 static and 32
+// moving objects, arrives whole. The decision stage keeps the default's
+// envelope (10 + 5: the most relevant, planner/sl_scene); the ST graph and
+// the collision check see every object. Predictions at 0.2 s steps over 8 s
+// (every 0.1 s they would not fit one link message).
+struct RoadSizes : DefaultSizes {
+  static constexpr int kMaxStaticObstacles = 32;
+  static constexpr int kMaxDynamicObstacles = 32;
+  static constexpr int kMaxPredictionSamples = 40;
+  static constexpr unsigned long kPlannerBytesBudget = 560000;
+};
+using RoadConfig = Configuration<RoadSizes>;
 
 }  // namespace itp
 
 // X(config type) for every configuration the library is built for.
 #define ITP_FOR_EACH_CONFIG(X) \
   X(::itp::DefaultConfig)      \
-  X(::itp::CompactConfig)
+  X(::itp::CompactConfig)      \
+  X(::itp::RoadConfig)

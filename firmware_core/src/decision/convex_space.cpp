@@ -15,7 +15,7 @@ namespace {
 // zones that the path could never connect.
 constexpr Scalar kMinSliceLength = Scalar(2.0);  // [m]
 template <class Cfg>
-constexpr int kMaxCuts = 2 * Cfg::kMaxObstacles + 2;
+constexpr int kMaxCuts = 2 * Cfg::kMaxDecisionObstacles + 2;
 
 bool finite_box(const SlBox& b) {
   return std::isfinite(b.s_min) && std::isfinite(b.s_max) && std::isfinite(b.l_min) &&
@@ -29,7 +29,7 @@ int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
                  std::array<Scalar, kMaxCuts<Cfg>>& cuts) {
   int n = 0;
   cuts[static_cast<std::size_t>(n++)] = s0;
-  for (const SlBox& b : boxes) {  // <= kMaxObstacles
+  for (const SlBox& b : boxes) {  // <= kMaxDecisionObstacles
     const Scalar edges[2] = {b.s_min, b.s_max};
     for (Scalar e : edges) {
       if (e > s0 && e < s1) {
@@ -74,13 +74,13 @@ struct Interval {
 int blocked_intervals(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
                       Scalar road_hi, std::span<Interval> blocked) {
   int n = 0;
-  for (std::size_t i = 0; i < boxes.size() && static_cast<std::size_t>(n) < blocked.size(); ++i) {  // <= kMaxObstacles
+  for (std::size_t i = 0; i < boxes.size() && static_cast<std::size_t>(n) < blocked.size(); ++i) {  // <= kMaxDecisionObstacles
     const SlBox& b = boxes[i];
     if (b.s_max > sa && b.s_min < sb && b.l_max > road_lo && b.l_min < road_hi) {
       blocked[static_cast<std::size_t>(n++)] = Interval{b.l_min, b.l_max, static_cast<std::int16_t>(i)};
     }
   }
-  for (int i = 1; i < n; ++i) {  // insertion sort by lo; n <= kMaxObstacles
+  for (int i = 1; i < n; ++i) {  // insertion sort by lo; n <= kMaxDecisionObstacles
     const Interval v = blocked[static_cast<std::size_t>(i)];
     int j = i - 1;
     for (; j >= 0 && blocked[static_cast<std::size_t>(j)].lo > v.lo; --j) {
@@ -96,7 +96,7 @@ template <class Cfg>
 void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
                      Scalar road_hi, const ConvexSpaceParams& params, std::int16_t slice_index,
                      BasicConvexSpace<Cfg>& out) {
-  std::array<Interval, Cfg::kMaxObstacles> blocked{};
+  std::array<Interval, Cfg::kMaxDecisionObstacles> blocked{};
   const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
   Slice slice;
   slice.s_begin = sa;
@@ -194,7 +194,7 @@ Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxe
                        Scalar sb) {
   const Scalar road_lo = road.right.max_over(sa, sb);
   const Scalar road_hi = road.left.min_over(sa, sb);
-  std::array<Interval, Cfg::kMaxObstacles> blocked{};
+  std::array<Interval, Cfg::kMaxDecisionObstacles> blocked{};
   const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
   Scalar widest = 0;
   Scalar cursor = road_lo;
@@ -219,11 +219,11 @@ ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<con
   out.vehicle_width = params.vehicle_width;
   if (!(params.s_end > params.s_start) || !std::isfinite(params.s_start) ||
       !std::isfinite(params.s_end) || !(params.vehicle_width > 0) || !std::isfinite(params.ego_l) ||
-      boxes.size() > static_cast<std::size_t>(Cfg::kMaxObstacles) || road.left.empty() ||
+      boxes.size() > static_cast<std::size_t>(Cfg::kMaxDecisionObstacles) || road.left.empty() ||
       road.right.empty()) {
     return ConvexSpaceStatus::kInvalidInput;
   }
-  for (const SlBox& b : boxes) {  // <= kMaxObstacles
+  for (const SlBox& b : boxes) {  // <= kMaxDecisionObstacles
     if (!finite_box(b)) {
       return ConvexSpaceStatus::kInvalidInput;
     }

@@ -63,7 +63,7 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
   length_ = clamp(v_plan * Cfg::kSpeedHorizon + front + settings_.stop_margin, Cfg::kPathLength,
                   Cfg::kMaxPathLength);
   map_end_ = reference_.length();
-  sl_.build(scene, reference_, now, s_start, settings_);
+  sl_.build(scene, reference_, now, s_start, s_start + length_, settings_);
   if (map_end_ - s_start < sl_.rear()) {
     return false;  // caller falls back: the ego is at or past the end of the map
   }
@@ -201,8 +201,11 @@ PlanStatus BasicPlanner<Cfg>::plan(const PlanRequest& request, Plan& out) {
   return out.status;
 }
 
-// Explicit instantiations for every configuration (itp/configurations.hpp).
-#define ITP_INSTANTIATE(C) template class BasicPlanner<C>;
+// Explicit instantiations for every configuration (itp/configurations.hpp),
+// each within its memory budget.
+#define ITP_INSTANTIATE(C)        \
+  template class BasicPlanner<C>; \
+  static_assert(sizeof(BasicPlanner<C>) <= C::kPlannerBytesBudget, "planner over its memory budget");
 ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
 #undef ITP_INSTANTIATE
 

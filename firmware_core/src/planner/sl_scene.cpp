@@ -1,6 +1,7 @@
 #include "itp/planner/sl_scene.hpp"
 
 #include <cmath>
+#include <span>
 
 #include "itp/configurations.hpp"
 #include "itp/core/scalar_math.hpp"
@@ -60,11 +61,25 @@ geometry::SlBox moving_box_sl(const geometry::BasicReferenceLine<Cfg>& line, Sca
   return geometry::SlBox{c.s - half_s, c.s + half_s, c.l - half_l, c.l + half_l, id, true};
 }
 
+// Marks in `keep` the `n` entries of `key` with the smallest keys (ties: the
+// earlier one), all of them when there are at most n. O(size^2); the spans
+// are at most a scene's obstacles. (Spans, not arrays per capacity: GCC folds
+// the configurations' identical instances and then warns about their bounds.)
+void keep_most_relevant(std::span<const Scalar> key, std::size_t n, std::span<bool> keep) {
+  for (std::size_t i = 0; i < key.size() && i < keep.size(); ++i) {  // <= kMaxStatic/DynamicObstacles
+    std::size_t better = 0;  // entries that rank before entry i
+    for (std::size_t j = 0; j < key.size(); ++j) {  // <= kMaxStatic/DynamicObstacles
+      better += (key[j] < key[i] || (key[j] == key[i] && j < i)) ? 1u : 0u;
+    }
+    keep[i] = better < n;
+  }
+}
+
 }  // namespace
 
 template <class Cfg>
 void BasicSlScene<Cfg>::build(const Scene& scene, const ReferenceLine& line, Scalar now,
-                              Scalar s_start, const PlannerSettings& settings) {
+                              Scalar s_start, Scalar s_end, const PlannerSettings& settings) {
   rear_ = scene::rear_overhang(scene.ego.geometry);
   front_ = scene.ego.geometry.length - rear_;
   s_start_ = s_start;
@@ -73,20 +88,45 @@ void BasicSlScene<Cfg>::build(const Scene& scene, const ReferenceLine& line, Sca
   road_.right = to_profile(scene.road.right, settings.road_margin);
   road_.lane_width = scene.road.lane_width;
   road_.target_lane_offset = scene.road.target_lane_offset;
-  project_statics(scene, line, settings.static_margin);
+  project_statics(scene, line, s_end, settings.static_margin);
   project_dynamics(scene, line, now, settings.dynamic_margin);
 }
 
+// The decision stage holds Cfg::kDecisionStatics static boxes. A scene with
+// more gives it the relevant ones: a box inside the SL window the path can
+// use (from the ego's rear to the end of the horizon) and overlapping the
+// road between its edges ranks by its distance ahead of the ego (0 when the
+// ego is beside it), nearest first; the others rank last. Ties keep the
+// scene's order, and so does the selection.
 template <class Cfg>
-void BasicSlScene<Cfg>::project_statics(const Scene& scene, const ReferenceLine& line,
+void BasicSlScene<Cfg>::project_statics(const Scene& scene, const ReferenceLine& line, Scalar s_end,
                                         Scalar static_margin) {
-  boxes_.clear();
-  for (const scene::StaticObstacle& o : scene.static_obstacles) {  // <= kMaxStaticObstacles
+  constexpr std::size_t kScene = static_cast<std::size_t>(Cfg::kMaxStaticObstacles);
+  constexpr Scalar kIrrelevant = Scalar(1e30);
+  std::array<geometry::SlBox, kScene> all{};
+  std::array<Scalar, kScene> key{};
+  const std::size_t count = scene.static_obstacles.size();
+  for (std::size_t i = 0; i < count; ++i) {  // <= kMaxStaticObstacles
+    const scene::StaticObstacle& o = scene.static_obstacles[i];
     const geometry::SlBox b = geometry::sl_bounding_box(
         line, geometry::OrientedBox{{o.x, o.y}, o.heading, o.length, o.width}, static_margin);
     // Inflated in s by the ego's extents, so constraints on the rear axle cover the car.
-    const geometry::SlBox sl{b.s_min - front_, b.s_max + rear_, b.l_min, b.l_max, o.id, false};
-    static_cast<void>(boxes_.push_back(sl));  // kMaxObstacles >= kMaxStaticObstacles
+    all[i] = geometry::SlBox{b.s_min - front_, b.s_max + rear_, b.l_min, b.l_max, o.id, false};
+    const Scalar s_mid = Scalar(0.5) * (all[i].s_min + all[i].s_max);
+    const bool in_window = all[i].s_max >= s_start_ && all[i].s_min <= s_end;
+    const bool on_road = all[i].l_min < road_.left.at(s_mid) && all[i].l_max > road_.right.at(s_mid);
+    key[i] = in_window && on_road ? max_of(all[i].s_min - s_start_, Scalar(0)) : kIrrelevant;
+  }
+  std::array<bool, kScene> keep{};
+  keep_most_relevant(std::span<const Scalar>(key).first(count), static_cast<std::size_t>(Cfg::kDecisionStatics), keep);
+  boxes_.clear();
+  statics_left_out_ = 0;
+  for (std::size_t i = 0; i < count; ++i) {  // <= kMaxStaticObstacles
+    if (keep[i]) {
+      static_cast<void>(boxes_.push_back(all[i]));  // at most kDecisionStatics kept
+    } else {
+      ++statics_left_out_;
+    }
   }
   static_count_ = boxes_.size();
 }
@@ -189,10 +229,13 @@ geometry::SlBox BasicSlScene<Cfg>::occupied_sweep(const DynamicTrack& tr, geomet
 template <class Cfg>
 int BasicSlScene<Cfg>::place_dynamic(const StSamples& s_guess, const bool* skip) {
   constexpr int kSamples = Cfg::kStSamples;
+  constexpr std::size_t kScene = static_cast<std::size_t>(Cfg::kMaxDynamicObstacles);
   while (boxes_.size() > static_count_) {  // <= kMaxDynamicObstacles: last round's dynamic boxes
     boxes_.pop_back();
   }
-  int placed = 0;
+  std::array<geometry::SlBox, kScene> placed_box{};
+  std::array<Scalar, kScene> key{};
+  std::size_t count = 0;
   for (int i = 0; i < track_count_; ++i) {  // <= kMaxDynamicObstacles
     const DynamicTrack& tr = tracks_[static_cast<std::size_t>(i)];
     if (skip[i] || tr.crossing) {
@@ -225,7 +268,15 @@ int BasicSlScene<Cfg>::place_dynamic(const StSamples& s_guess, const bool* skip)
     }
     b.s_min -= front_;
     b.s_max += rear_;
-    if (boxes_.push_back(b)) {
+    placed_box[count] = b;
+    key[count] = max_of(b.s_min - s_start_, Scalar(0));  // nearest ahead first
+    ++count;
+  }
+  std::array<bool, kScene> keep{};
+  keep_most_relevant(std::span<const Scalar>(key).first(count), boxes_.capacity() - boxes_.size(), keep);
+  int placed = 0;
+  for (std::size_t i = 0; i < count; ++i) {  // <= kMaxDynamicObstacles
+    if (keep[i] && boxes_.push_back(placed_box[i])) {
       ++placed;
     }
   }

@@ -70,14 +70,14 @@ struct BasicConvexSpace {
   const Zone& successor(const Zone& z, int bit) const;
 };
 
-// `boxes` may hold at most Cfg::kMaxObstacles entries; boxes outside
+// `boxes` may hold at most Cfg::kMaxDecisionObstacles entries; boxes outside
 // [s_start, s_end] are ignored.
 template <class Cfg>
 ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes,
                                      const ConvexSpaceParams& params, BasicConvexSpace<Cfg>& out);
 
 // The widest free l-interval of the road across [sa, sb] beside the boxes
-// overlapping it (at most Cfg::kMaxObstacles). [m]
+// overlapping it (at most Cfg::kMaxDecisionObstacles). [m]
 template <class Cfg>
 Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa,
                        Scalar sb);

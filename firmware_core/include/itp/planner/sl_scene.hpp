@@ -36,13 +36,16 @@ class BasicSlScene {
   // ST samples: every horizon / kSpeedSamples (0.1 s) over the speed horizon.
   static constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);  // [s]
 
-  // A validated scene at time `now`, the ego's rear axle at path s `s_start`.
-  void build(const Scene& scene, const ReferenceLine& line, Scalar now, Scalar s_start,
+  // A validated scene at time `now`, the ego's rear axle at path s
+  // `s_start`, the SL horizon ending at `s_end`.
+  void build(const Scene& scene, const ReferenceLine& line, Scalar now, Scalar s_start, Scalar s_end,
              const PlannerSettings& settings);
 
   // Back to the static boxes, then each dynamic obstacle not `skip`ped and
   // not crossing at its meeting place with the ego driving `s_guess`
   // (speed-s from s_start per ST sample). Returns how many were placed.
+  // The decision stage holds Cfg::kDecisionDynamics of them: with more, the
+  // nearest (their placed box's start from the ego's rear axle).
   int place_dynamic(const StSamples& s_guess, const bool* skip);
 
   // The track of the nearest placed moving obstacle whose box overlaps
@@ -52,6 +55,9 @@ class BasicSlScene {
   int nearest_dynamic(const bool* skip, Scalar s_lo, Scalar s_hi) const;
 
   std::span<const geometry::SlBox> boxes() const { return boxes_.span(); }
+  // Static obstacles of the scene the decision stage does not see (the
+  // least relevant, when the scene holds more than Cfg::kDecisionStatics).
+  int statics_left_out() const { return statics_left_out_; }
   std::span<const geometry::SlBox> static_boxes() const { return boxes_.span().first(static_count_); }
   std::span<const DynamicTrack> tracks() const {
     return {tracks_.data(), static_cast<std::size_t>(track_count_)};
@@ -66,7 +72,7 @@ class BasicSlScene {
   Scalar rear() const { return rear_; }        // [m] rear overhang
 
  private:
-  void project_statics(const Scene& scene, const ReferenceLine& line, Scalar static_margin);
+  void project_statics(const Scene& scene, const ReferenceLine& line, Scalar s_end, Scalar static_margin);
   void project_dynamics(const Scene& scene, const ReferenceLine& line, Scalar now,
                         Scalar dynamic_margin);
   void keep_on_road(Scalar s, geometry::SlBox& box) const;
@@ -78,9 +84,10 @@ class BasicSlScene {
   Scalar front_ = 0;    // [m]
   Scalar rear_ = 0;     // [m]
   // Static boxes (inflated in s by the ego's extents), then the dynamic ones
-  // at their meeting places.
-  StaticVector<geometry::SlBox, Cfg::kMaxObstacles> boxes_;
+  // at their meeting places: the decision stage's.
+  StaticVector<geometry::SlBox, Cfg::kMaxDecisionObstacles> boxes_;
   std::size_t static_count_ = 0;
+  int statics_left_out_ = 0;
   std::array<DynamicTrack, Cfg::kMaxDynamicObstacles> tracks_{};
   std::array<Motion, Cfg::kMaxDynamicObstacles> motion_{};
   int track_count_ = 0;
