@@ -172,6 +172,7 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
     DynamicTrack& tr = tracks_[static_cast<std::size_t>(track_count_++)];
     tr.id = o.id;
     tr.sweep_occupied = false;
+    tr.from_behind = false;
     tr.crossing = false;
     bool seen = false;
     bool on_road = false;  // first seen on the road: its prediction stays there
@@ -205,6 +206,7 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
         tr.crossing = std::fabs(rel) > kCrossingHeadingLow && std::fabs(rel) < kCrossingHeadingHigh &&
                       std::fabs(p.v) >= kCrossingMinSpeed;
         tr.sweep_occupied = !tr.crossing && (oncoming || from_behind);
+        tr.from_behind = tr.sweep_occupied && !oncoming;
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
       if (tr.crossing) {
@@ -276,15 +278,40 @@ int BasicPlanner<Cfg>::place_dynamic(const std::array<Scalar, Cfg::kStSamples>& 
       // it covers over the horizon from the ego on (behind the ego nothing is
       // planned, and behind the reference line's start the frame runs
       // straight, not along the lanes).
+      // Traffic from behind that moves over into the ego's target lane
+      // becomes a follower there (its own business, RSS): its sweep covers
+      // only the lane(s) it comes from, never the target lane.
+      const Scalar half_lane = Scalar(0.5) * road_.lane_width;
+      bool any = false;
       for (int j = 0; j < kSamples; ++j) {  // Cfg::kStSamples
         const auto u = static_cast<std::size_t>(j);
         const Scalar s_mid = Scalar(0.5) * (tr.box[u].s_min + tr.box[u].s_max);
-        if (tr.present[u] && tr.box[u].s_max >= s_start_ - rear_ && s_mid >= 0) {
-          b.s_min = min_of(b.s_min, tr.box[u].s_min);
-          b.s_max = max_of(b.s_max, tr.box[u].s_max);
-          b.l_min = min_of(b.l_min, tr.box[u].l_min);
-          b.l_max = max_of(b.l_max, tr.box[u].l_max);
+        if (!tr.present[u] || tr.box[u].s_max < s_start_ - rear_ || s_mid < 0) {
+          continue;
         }
+        decision::SlBox q = tr.box[u];
+        if (tr.from_behind) {
+          const Scalar l_mid = Scalar(0.5) * (q.l_min + q.l_max);
+          if (std::fabs(l_mid - lane_target_) < half_lane) {
+            continue;  // in the target lane: a follower there
+          }
+          if (l_mid > lane_target_) {
+            q.l_min = max_of(q.l_min, lane_target_ + half_lane);
+          } else {
+            q.l_max = min_of(q.l_max, lane_target_ - half_lane);
+          }
+        }
+        if (!any && tr.from_behind) {
+          b = q;  // not the meeting box: it may lie in the target lane
+        }
+        any = true;
+        b.s_min = min_of(b.s_min, q.s_min);
+        b.s_max = max_of(b.s_max, q.s_max);
+        b.l_min = min_of(b.l_min, q.l_min);
+        b.l_max = max_of(b.l_max, q.l_max);
+      }
+      if (tr.from_behind && !any) {
+        continue;  // all of it ahead of the ego lies in the target lane
       }
     }
     b.s_min -= front_;

@@ -30,6 +30,9 @@ struct BasicDynamicTrack {
   // Oncoming, or first seen behind the ego: the path treats everything it
   // covers over the horizon as occupied (planner, place_dynamic).
   bool sweep_occupied = false;
+  // ... for the second reason: traffic from behind in another lane than the
+  // ego's target lane (where it moves into the target lane, a follower there).
+  bool from_behind = false;
   // Crossing the road (or its sweep leaves no passage): never a wall in the
   // convex space, only the ST graph's (yield); planner, project_obstacles.
   bool crossing = false;

@@ -1,0 +1,38 @@
+// Traffic coming up from behind (issue 11, "Stopped in the way of traffic"):
+// recorded traffic does not react to the ego, so an ego that brakes for a
+// phantom, yields to a car behind it or swerves away from a merging car gets
+// hit. RSS (Shalev-Shwartz et al. 2017): the car behind keeps its distance;
+// the ego keeps its lane and brakes no harder than what lies ahead needs.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "itp/planner/planner.hpp"
+#include "plan_checks.hpp"
+#include "scene_builder.hpp"
+
+using namespace itp::planner;
+using namespace planner_test;
+
+using Run = PlanRun<itp::DefaultConfig>;
+
+TEST_CASE("a car from behind merges into the ego's lane behind it: the ego keeps its lane and speed") {
+  // As in CommonRoad ZAM_Tutorial-1_1: the ego at 22 m/s in its lane, a car
+  // 12 m behind in the left lane at 23 m/s (the speed limit) heading 3 deg
+  // towards the ego's lane (constant velocity: a lane change that ends in
+  // the ego's lane, behind the ego). It becomes a follower there: its sweep
+  // must not close the ego's own lane (it did: path QP failure, fallback).
+  Scene s = road_scene(1, 0, 0, 400);
+  s.road.speed_limit = 23;
+  s.ego.state.v = 22;
+  add_mover(s, 42, -12, 3.5, -0.05, 23);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  for (const TrajectoryPoint& q : r.plan->trajectory) {
+    CHECK(std::fabs(q.l) < 0.3);  // its own lane
+    CHECK(q.a >= -1.0);           // no braking for the car behind
+  }
+  CHECK(decision_for(*r.plan, 42).longitudinal != itp::speed::Longitudinal::kYield);
+}
