@@ -36,3 +36,24 @@ TEST_CASE("a car from behind merges into the ego's lane behind it: the ego keeps
   }
   CHECK(decision_for(*r.plan, 42).longitudinal != itp::speed::Longitudinal::kYield);
 }
+
+TEST_CASE("a faster follower in the ego's lane while the ego slows for a leader: an ok plan, braking gently") {
+  // One lane. A slow car 60 m ahead (5 m/s) needs about 1 m/s^2; a car 9 m
+  // behind keeps 15 m/s in its (constant-velocity) prediction and so runs
+  // into any ego that slows down. The gap is the follower's to keep (RSS):
+  // the plan follows the leader as it would without the follower, instead of
+  // a collision fallback that brakes at 3 m/s^2 (and gets hit sooner).
+  Scene s = road_scene(0, 0);
+  s.ego.state.v = 15;
+  add_mover(s, 7, 60, 0, 0, 5);
+  add_mover(s, 8, -9, 0, 0, 15);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(decision_for(*r.plan, 7).longitudinal == itp::speed::Longitudinal::kFollow);
+  CHECK(decision_for(*r.plan, 8).longitudinal == itp::speed::Longitudinal::kIgnore);
+  for (const TrajectoryPoint& q : r.plan->trajectory) {
+    CHECK(q.a >= -3.0 - 0.05);
+  }
+}

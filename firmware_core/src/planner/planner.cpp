@@ -514,12 +514,49 @@ void BasicPlanner<Cfg>::sample_trajectory(const Start& start, Plan& out) const {
   }
 }
 
+// RSS's rule for the car behind (Shalev-Shwartz et al. 2017): it keeps the
+// safe distance to the car ahead whatever that car does short of braking
+// beyond b_max; it is responsible for a rear-end collision. A predicted hit
+// at plan sample k is such a one when the mover comes along the ego's way
+// (heading within 45 deg) from behind (its centre behind the ego's rear
+// bumper, its footprint reaching into the ego's from there), faster than the
+// ego, and the ego kept to its target lane from the start of the plan to
+// the hit (it did not cut in ahead of the mover). No plan of the ego can
+// remove such a hit without braking less for what lies ahead or leaving
+// its lane in front of other traffic, so it does not make the plan unsafe.
+template <class Cfg>
+bool BasicPlanner<Cfg>::follower_runs_in(const Plan& plan, std::size_t k,
+                                         const scene::ObstacleSample& o) const {
+  const TrajectoryPoint& p = plan.trajectory[k];
+  const Scalar rel = geometry::relative_heading(o.heading, p.heading);
+  if (std::fabs(rel) > kCrossingHeadingLow) {
+    return false;
+  }
+  const Scalar c = std::cos(p.heading);
+  const Scalar sn = std::sin(p.heading);
+  const Scalar half_length = Scalar(0.5) * (front_ + rear_);
+  const Scalar centre = half_length - rear_;  // rear axle to the ego's centre
+  const Scalar along = (o.x - p.x) * c + (o.y - p.y) * sn - centre;
+  if (along > -half_length || o.v * std::cos(rel) <= max_of(p.v, Scalar(0))) {
+    return false;
+  }
+  const Scalar half_lane = Scalar(0.5) * road_.lane_width;
+  for (std::size_t j = 0; j <= k; ++j) {  // <= kTrajectorySamples
+    if (std::fabs(plan.trajectory[j].l - lane_target_) > half_lane) {
+      return false;
+    }
+  }
+  return true;
+}
+
 // Index of the first trajectory sample whose footprint overlaps an obstacle
-// (its id in `*hit_id` when given); -1: none.
+// (its id in `*hit_id` when given); -1: none. A follower running into the
+// ego from behind is its own responsibility (follower_runs_in).
 template <class Cfg>
 int BasicPlanner<Cfg>::first_collision(const Scene& scene, const Plan& plan,
                                        std::int32_t* hit_id) const {
   const scene::VehicleGeometry& g = scene.ego.geometry;
+  bool rear_ended[Cfg::kMaxDynamicObstacles] = {};
   for (std::size_t k = 0; k < plan.trajectory.size(); ++k) {  // kTrajectorySamples
     const TrajectoryPoint& p = plan.trajectory[k];
     const collision::OrientedBox ego = collision::box_from_rear_axle(p.x, p.y, p.heading, g.length, g.width, rear_);
@@ -534,7 +571,13 @@ int BasicPlanner<Cfg>::first_collision(const Scene& scene, const Plan& plan,
     for (std::size_t i = 0; i < scene.dynamic_obstacles.size(); ++i) {  // <= kMaxDynamicObstacles
       const DynamicObstacle& o = scene.dynamic_obstacles[i];
       const scene::ObstacleSample& q = motion_[i][k];  // the motion planned against, at p.t
-      if (q.present && collision::overlap(ego, obstacle_box(q.x, q.y, q.heading, o.length, o.width))) {
+      if (!q.present || rear_ended[i] ||
+          !collision::overlap(ego, obstacle_box(q.x, q.y, q.heading, o.length, o.width))) {
+        continue;
+      }
+      // A rear-end stays one as the footprints go on overlapping.
+      rear_ended[i] = follower_runs_in(plan, k, q);
+      if (!rear_ended[i]) {
         if (hit_id != nullptr) {
           *hit_id = o.id;
         }
