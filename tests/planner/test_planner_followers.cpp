@@ -57,3 +57,22 @@ TEST_CASE("a faster follower in the ego's lane while the ego slows for a leader:
     CHECK(q.a >= -3.0 - 0.05);
   }
 }
+
+TEST_CASE("a follower closing in on a slow ego: the ego does not yield to it") {
+  // The ego at 4 m/s, a car 2.3 m behind its rear bumper at 9 m/s in the
+  // same lane. The ego cannot stay ahead of it (it would have to be faster
+  // than 9 m/s at once), and yielding to it (staying behind where its
+  // constant-velocity prediction drives through the ego) meant braking hard
+  // in front of it.
+  Scene s = road_scene(0, 0);
+  s.ego.state.v = 4;
+  add_mover(s, 8, -5.5, 0, 0, 9);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(decision_for(*r.plan, 8).longitudinal == itp::speed::Longitudinal::kIgnore);
+  for (const TrajectoryPoint& q : r.plan->trajectory) {
+    CHECK(q.v >= 4.0 - 0.2);  // never slower than now
+  }
+}

@@ -181,6 +181,14 @@ void classify(BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
   }
   const auto u1 = static_cast<std::size_t>(d.k1);
   const Scalar ego = s_guess[u1];
+  // A faster obstacle that meets the path behind the ego (its centre behind
+  // the ego's) closes in from behind: the gap is the follower's to keep
+  // (RSS). Neither yield to it (braking to let it pass through the ego is
+  // what gets the ego rear-ended) nor make way for it.
+  if (Scalar(0.5) * (d.s_lo[u1] + d.s_hi[u1]) < ego && d.speed[u1] > v_guess[u1]) {
+    d.decision = Longitudinal::kIgnore;
+    return;
+  }
   if (ego >= d.s_hi[u1]) {
     // The ego is past the conflict zone when it is entered: stay ahead (15),
     // unless the obstacle is the faster one, closing in from behind.
