@@ -76,3 +76,20 @@ TEST_CASE("a follower closing in on a slow ego: the ego does not yield to it") {
     CHECK(q.v >= 4.0 - 0.2);  // never slower than now
   }
 }
+
+TEST_CASE("a follower whose recorded speeds say 0: its speed is read from its motion") {
+  // As the recorded queue car in USA_Peach-4_8 (ground-truth predictions):
+  // the trajectory's poses advance at 15 m/s while its speed fields are 0.
+  // The rear-end rule compared the ego's speed with the field and counted
+  // the hit as the ego's: a collision fallback instead of following the leader.
+  Scene s = road_scene(0, 0);
+  s.ego.state.v = 15;
+  add_mover(s, 7, 60, 0, 0, 5);
+  add_mover(s, 8, -9, 0, 0, 15);
+  for (TimedPose& p : s.dynamic_obstacles[1].trajectory) p.v = 0;
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(decision_for(*r.plan, 7).longitudinal == itp::speed::Longitudinal::kFollow);
+}

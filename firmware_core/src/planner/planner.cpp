@@ -526,7 +526,8 @@ void BasicPlanner<Cfg>::sample_trajectory(const Start& start, Plan& out) const {
 // its lane in front of other traffic, so it does not make the plan unsafe.
 template <class Cfg>
 bool BasicPlanner<Cfg>::follower_runs_in(const Plan& plan, std::size_t k,
-                                         const scene::ObstacleSample& o) const {
+                                         const scene::ObstacleSample& o,
+                                         const scene::ObstacleSample* before) const {
   const TrajectoryPoint& p = plan.trajectory[k];
   const Scalar rel = geometry::relative_heading(o.heading, p.heading);
   if (std::fabs(rel) > kCrossingHeadingLow) {
@@ -537,7 +538,12 @@ bool BasicPlanner<Cfg>::follower_runs_in(const Plan& plan, std::size_t k,
   const Scalar half_length = Scalar(0.5) * (front_ + rear_);
   const Scalar centre = half_length - rear_;  // rear axle to the ego's centre
   const Scalar along = (o.x - p.x) * c + (o.y - p.y) * sn - centre;
-  if (along > -half_length || o.v * std::cos(rel) <= max_of(p.v, Scalar(0))) {
+  // Its speed along the ego's heading: from its motion over the last step
+  // when there is one (a recorded trajectory's speeds need not match it).
+  const Scalar v_along = before != nullptr && before->present
+                             ? ((o.x - before->x) * c + (o.y - before->y) * sn) / kDt
+                             : o.v * std::cos(rel);
+  if (along > -half_length || v_along <= max_of(p.v, Scalar(0))) {
     return false;
   }
   const Scalar half_lane = Scalar(0.5) * road_.lane_width;
@@ -576,7 +582,7 @@ int BasicPlanner<Cfg>::first_collision(const Scene& scene, const Plan& plan,
         continue;
       }
       // A rear-end stays one as the footprints go on overlapping.
-      rear_ended[i] = follower_runs_in(plan, k, q);
+      rear_ended[i] = follower_runs_in(plan, k, q, k > 0 ? &motion_[i][k - 1] : nullptr);
       if (!rear_ended[i]) {
         if (hit_id != nullptr) {
           *hit_id = o.id;

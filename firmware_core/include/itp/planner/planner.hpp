@@ -147,7 +147,8 @@ class BasicPlanner {
                   SpeedInput& si, Plan& out);
   void sample_trajectory(const Start& start, Plan& out) const;
   int first_collision(const Scene& scene, const Plan& plan, std::int32_t* hit_id) const;
-  bool follower_runs_in(const Plan& plan, std::size_t k, const scene::ObstacleSample& o) const;
+  bool follower_runs_in(const Plan& plan, std::size_t k, const scene::ObstacleSample& o,
+                        const scene::ObstacleSample* before) const;
   void fallback(const Scene* scene, Scalar now, FallbackReason reason, Plan& out);
   void record_decisions(Plan& out) const;
   int rank_decisions(std::array<int, Cfg::kKeptDecisions>& order) const;
