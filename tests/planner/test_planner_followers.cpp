@@ -93,3 +93,23 @@ TEST_CASE("a follower whose recorded speeds say 0: its speed is read from its mo
   check_limits(s, *r.plan);
   CHECK(decision_for(*r.plan, 7).longitudinal == itp::speed::Longitudinal::kFollow);
 }
+
+TEST_CASE("a faster car behind in the ego's lane is not a lateral obstacle: the ego does not swerve") {
+  // Two lanes; the ego at 18 m/s, a car 10 m behind it in its lane at 23
+  // m/s (the speed limit). It catches up with the ego within the horizon; as
+  // a box in the convex space where it meets the ego, it made the plan pass
+  // it on the left - out of the ego's lane in front of it.
+  Scene s = road_scene(1, 0, 0, 400);
+  s.road.speed_limit = 23;
+  s.ego.state.v = 18;
+  add_mover(s, 42, -10, 0, 0, 23);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(decision_for(*r.plan, 42).lateral == LateralSide::kNone);
+  CHECK(decision_for(*r.plan, 42).longitudinal == itp::speed::Longitudinal::kIgnore);
+  for (const TrajectoryPoint& q : r.plan->trajectory) {
+    CHECK(std::fabs(q.l) < 0.3);
+  }
+}

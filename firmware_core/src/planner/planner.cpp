@@ -123,6 +123,7 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
   front_ = ego.geometry.length - rear_;
   const geometry::FrenetPoint f = reference_.to_frenet(geometry::Point2{ego.state.x, ego.state.y});
   s_start_ = f.s;
+  ego_l_ = f.l;
   ego_v_ = ego.state.v;
   // The SL horizon covers where the speed horizon can take the ego, so that
   // no trajectory sample runs past the planned path (and past obstacles the
@@ -173,6 +174,7 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
     tr.id = o.id;
     tr.sweep_occupied = false;
     tr.from_behind = false;
+    tr.follower = false;
     tr.crossing = false;
     bool seen = false;
     bool on_road = false;  // first seen on the road: its prediction stays there
@@ -207,6 +209,11 @@ void BasicPlanner<Cfg>::project_obstacles(const Scene& scene, Scalar now) {
                       std::fabs(p.v) >= kCrossingMinSpeed;
         tr.sweep_occupied = !tr.crossing && (oncoming || from_behind);
         tr.from_behind = tr.sweep_occupied && !oncoming;
+        const bool ego_in_lane = std::fabs(ego_l_ - lane_target_) < Scalar(0.5) * road_.lane_width;
+        // (behind where the ego is by then at its speed: it may be first seen
+        // on the reference line a few samples on)
+        const bool behind_then = tr.box[u].s_max < s_start_ + max_of(ego_v_, Scalar(0)) * kDt * static_cast<Scalar>(k);
+        tr.follower = behind_then && !other_lane && ego_in_lane && !oncoming && !tr.crossing;
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
       if (tr.crossing) {
@@ -244,7 +251,7 @@ int BasicPlanner<Cfg>::place_dynamic(const std::array<Scalar, Cfg::kStSamples>& 
   int placed = 0;
   for (int i = 0; i < track_count_; ++i) {  // <= kMaxDynamicObstacles
     const DynamicTrack& tr = tracks_[static_cast<std::size_t>(i)];
-    if (skip[i] || tr.crossing) {
+    if (skip[i] || tr.crossing || tr.follower) {
       continue;
     }
     int meet = -1;

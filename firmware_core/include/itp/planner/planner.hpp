@@ -171,6 +171,7 @@ class BasicPlanner {
   geometry::Point2 origin_{};  // [m] first reference point (s = 0) of the last prepared cycle
   Scalar lane_target_ = 0;  // [m] target lane centre
   Scalar s_start_ = 0;   // [m] path start (the ego's s)
+  Scalar ego_l_ = 0;     // [m] the ego's lateral offset
   Scalar ego_v_ = 0;     // [m/s] the ego's speed
   Scalar length_ = 0;    // [m] path length this cycle
   Scalar map_end_ = 0;   // [m] path s where the reference line (the map) ends

@@ -33,6 +33,11 @@ struct BasicDynamicTrack {
   // ... for the second reason: traffic from behind in another lane than the
   // ego's target lane (where it moves into the target lane, a follower there).
   bool from_behind = false;
+  // First seen behind the ego in the ego's (target) lane, moving its way,
+  // with the ego in that lane: it can meet the ego only by running into it
+  // from behind, which is its business (RSS); never a wall in the convex
+  // space (a lateral decision around it swerved the ego out of its lane).
+  bool follower = false;
   // Crossing the road (or its sweep leaves no passage): never a wall in the
   // convex space, only the ST graph's (yield); planner, project_obstacles.
   bool crossing = false;
