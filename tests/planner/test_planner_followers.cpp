@@ -113,3 +113,24 @@ TEST_CASE("a faster car behind in the ego's lane is not a lateral obstacle: the 
     CHECK(std::fabs(q.l) < 0.3);
   }
 }
+
+TEST_CASE("the map ends ahead and a car follows closely: the ego brakes late, comfortably") {
+  // As ZAM_Tutorial-1_1 near its end: the road ends 130 m ahead of the ego
+  // (20 m/s), so the plan stops before it; a car 9 m behind keeps 21 m/s.
+  // Without it the speed QP spreads the stop over the horizon and slows down
+  // from the first second; with it the ego keeps its speed while braking at
+  // comfort_decel (3 m/s^2) later still stops before the end.
+  Scene s = road_scene(0, 0, 0, 130);
+  s.road.speed_limit = 23;
+  s.ego.state.v = 20;
+  add_mover(s, 42, -9, 0, 0, 21);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  for (const TrajectoryPoint& q : r.plan->trajectory) {
+    if (q.t <= 1.5) CHECK(q.v >= 20.0 - 1e-3);  // no early braking (main: 19.8 m/s at 1.5 s)
+    CHECK(q.a >= -3.0 - 0.3);
+    CHECK(q.x + s.ego.geometry.length - rear_overhang(s) <= 130.0);
+  }
+}

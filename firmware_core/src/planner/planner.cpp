@@ -928,12 +928,22 @@ FallbackReason BasicPlanner<Cfg>::decide_path(const std::array<Scalar, Cfg::kStS
 template <class Cfg>
 void BasicPlanner<Cfg>::plan_speed(const StParams& stp, const StSamples& s_guess,
                                    const StSamples& v_guess, SpeedInput& si, Plan& out) {
-  st_.build(path_, std::span<const DynamicTrack>(tracks_.data(), static_cast<std::size_t>(track_count_)),
-            stp, s_guess, v_guess, bounds_);
+  const std::span<const DynamicTrack> tracks(tracks_.data(), static_cast<std::size_t>(track_count_));
+  st_.build(path_, tracks, stp, s_guess, v_guess, bounds_);
   si.a_min = bounds_.a_min;
   speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
   ++out.qp_solves;
   out.qp_iterations += speed_.iterations;
+  if (!qp::is_usable(speed_.status) && st_.kept_ahead()) {
+    // Keeping ahead of a follower is a wish, not a constraint: without it.
+    StParams without = stp;
+    without.keep_ahead = false;
+    st_.build(path_, tracks, without, s_guess, v_guess, bounds_);
+    si.a_min = bounds_.a_min;
+    speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
+    ++out.qp_solves;
+    out.qp_iterations += speed_.iterations;
+  }
   if (!qp::is_usable(speed_.status) && bounds_.a_min > limits_.a_min) {
     si.a_min = limits_.a_min;
     speed_opt_.solve(si, bounds_, settings_.speed_weights, speed_);
@@ -949,6 +959,7 @@ bool BasicPlanner<Cfg>::iterate(const Scene& scene, const Start& start, Plan& ou
   StParams stp;
   stp.s0 = start.s;
   stp.v0 = start.v;
+  stp.a0 = start.a;
   stp.front = front_;
   stp.rear = rear_;
   stp.half_width = Scalar(0.5) * scene.ego.geometry.width;

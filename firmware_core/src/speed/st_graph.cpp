@@ -185,14 +185,17 @@ void classify(BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
   // the ego's) closes in from behind: the gap is the follower's to keep
   // (RSS). Neither yield to it (braking to let it pass through the ego is
   // what gets the ego rear-ended) nor make way for it.
-  if (Scalar(0.5) * (d.s_lo[u1] + d.s_hi[u1]) < ego && d.speed[u1] > v_guess[u1]) {
+  d.behind = Scalar(0.5) * (d.s_lo[u1] + d.s_hi[u1]) < ego;
+  if (d.behind && d.speed[u1] > v_guess[u1]) {
     d.decision = Longitudinal::kIgnore;
+    d.follower = true;
     return;
   }
   if (ego >= d.s_hi[u1]) {
     // The ego is past the conflict zone when it is entered: stay ahead (15),
     // unless the obstacle is the faster one, closing in from behind.
-    d.decision = d.speed[u1] > v_guess[u1] ? Longitudinal::kIgnore : Longitudinal::kOvertake;
+    d.follower = d.speed[u1] > v_guess[u1];
+    d.decision = d.follower ? Longitudinal::kIgnore : Longitudinal::kOvertake;
     return;
   }
   // A leader moving along the path is followed at a safe gap for as long as
@@ -265,6 +268,68 @@ void apply(const BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
         break;
     }
   }
+}
+
+// The furthest the ego can be at each sample: its acceleration ramps from a0
+// to a_max within kRampTime (the speed spline is C2), then holds it up to
+// the speed bound.
+template <class Cfg>
+void reachable(const BasicStParams<Cfg>& p, const BasicSpeedBounds<Cfg>& b,
+               std::array<Scalar, Cfg::kStSamples>& s_max) {
+  constexpr Scalar kRampTime = Scalar(0.5);  // [s] one speed-QP block
+  Scalar s = 0;
+  Scalar v = max_of(p.v0, Scalar(0));
+  for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
+    const auto u = static_cast<std::size_t>(k);
+    s_max[u] = s;
+    const Scalar t = kDt<Cfg> * static_cast<Scalar>(k);
+    const Scalar ramp = t < kRampTime ? t / kRampTime : Scalar(1);
+    const Scalar a = min_of(p.a0, p.limits.a_max) + (p.limits.a_max - min_of(p.a0, p.limits.a_max)) * ramp;
+    const Scalar v_next = max_of(min_of(v + a * kDt<Cfg>, b.v_hi[u]), Scalar(0));
+    s += Scalar(0.5) * (v + v_next) * kDt<Cfg>;
+    v = v_next;
+  }
+}
+
+// Keep ahead of a follower (RSS leaves the gap to it, but an ego that brakes
+// earlier than it must gets hit by traffic that does not react): where its
+// footprint is in line with the path, the ego's rear stays ahead of its front
+// by the conflict zone's margin, as long as braking at comfort_decel from
+// the follower's speed still meets every later upper bound (the end of the
+// planned path is none: not a stop) and the ego can get there at all.
+// Returns whether a lower bound was raised.
+template <class Cfg>
+bool keep_ahead(const BasicStDecision<Cfg>& d, const BasicDynamicTrack<Cfg>& tr,
+                const path::BasicPathResult<Cfg>& path, const BasicStParams<Cfg>& p,
+                const std::array<Scalar, Cfg::kStSamples>& s_max, BasicSpeedBounds<Cfg>& b) {
+  constexpr Scalar kInLine = Scalar(0.5);   // [m] beyond the ego's half width: beside it, not behind
+  constexpr Scalar kReachSlack = Scalar(0.2);  // [m] kept from the furthest reachable position
+  const Scalar path_limit = p.path_end >= 0 ? p.path_end - p.s0 - p.front : std::numeric_limits<Scalar>::infinity();
+  bool raised = false;
+  for (int k = d.k1; k >= 0 && k <= d.k2; ++k) {  // <= Cfg::kStSamples
+    const auto u = static_cast<std::size_t>(k);
+    if (!d.conflict[u]) {
+      continue;
+    }
+    const decision::SlBox& box = tr.box[u];
+    const Scalar s_mid = Scalar(0.5) * (box.s_min + box.s_max);
+    if (std::fabs(Scalar(0.5) * (box.l_min + box.l_max) - path.eval(s_mid, 0)) > p.half_width + kInLine) {
+      continue;
+    }
+    const Scalar v = min_of(max_of(d.speed[u], Scalar(0)), b.v_hi[u]);
+    Scalar lo = min_of(d.s_hi[u], s_max[u] - kReachSlack);
+    for (int j = k; j < Cfg::kStSamples; ++j) {  // Cfg::kStSamples
+      const auto w = static_cast<std::size_t>(j);
+      if (b.s_hi[w] < path_limit) {
+        lo = min_of(lo, b.s_hi[w] - braking_distance(v, p.comfort_decel, kDt<Cfg> * static_cast<Scalar>(j - k)));
+      }
+    }
+    if (lo > b.s_lo[u]) {
+      b.s_lo[u] = lo;
+      raised = true;
+    }
+  }
+  return raised;
 }
 
 }  // namespace
@@ -382,7 +447,7 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
     }
     classify(d, p, s_guess, v_guess);
     if (p.conservative && d.decision == Longitudinal::kOvertake) {
-      d.decision = Longitudinal::kYield;
+      d.decision = d.behind ? Longitudinal::kIgnore : Longitudinal::kYield;
     }
     static_cast<void>(decisions_.push_back(d));
   }
@@ -406,9 +471,23 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
       }
     }
     if (!feasible) {
-      d.decision = Longitudinal::kYield;
+      // Never yield to what is behind the ego at t1: staying behind it means
+      // letting it drive through the ego. A follower then (keep ahead of it
+      // as far as braking for what lies ahead allows).
+      d.follower = d.behind;
+      d.decision = d.behind ? Longitudinal::kIgnore : Longitudinal::kYield;
     }
     apply(d, p, s_guess, v_guess, b);
+  }
+  kept_ahead_ = false;
+  if (p.keep_ahead && !p.conservative) {
+    std::array<Scalar, Cfg::kStSamples> s_max{};
+    reachable(p, b, s_max);
+    for (std::size_t i = 0; i < decisions_.size(); ++i) {  // <= kMaxDynamicObstacles
+      if (decisions_[i].follower && keep_ahead(decisions_[i], tracks[i], path, p, s_max, b)) {
+        kept_ahead_ = true;
+      }
+    }
   }
   // Never ask for less than full braking can give: keep s_hi reachable (a
   // collision that braking cannot avoid is caught by the collision check).
