@@ -122,7 +122,8 @@ FallbackReason BasicIteration<Cfg>::run(Context& ctx, const StartState& start, B
     // Check with the real footprints, and measure the change from the last step.
     t0 = ctx.ticks.ticks();
     sample_trajectory(*ctx.reference, start, out);
-    const CollisionHit hit = first_collision(*ctx.scene, sl.motions(), out);
+    const CollisionHit hit =
+        first_collision(*ctx.scene, sl.motions(), out, EgoLane{sl.lane_target(), sl.road().lane_width});
     safe = !hit.found();
     out.collision_obstacle = hit.obstacle;
     out.collision_time = safe ? Scalar(-1) : out.trajectory[static_cast<std::size_t>(hit.sample)].t;
@@ -183,7 +184,8 @@ FallbackReason BasicIteration<Cfg>::run(Context& ctx, const StartState& start, B
 }
 
 // ST graph and speed QP along path_: with the braking the bounds need
-// (bounds_.a_min), then, if that fails, with the vehicle's limit.
+// (bounds_.a_min), then, if that fails, without keeping ahead of followers
+// (when it did), then with the vehicle's limit.
 template <class Cfg>
 void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, const StSamples& v_guess,
                                      BasicPlan<Cfg>& out) {
@@ -193,6 +195,16 @@ void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, con
   speed_opt_.solve(si, bounds_, ctx.settings->speed_weights, speed_);
   ++out.qp_solves;
   out.qp_iterations += speed_.iterations;
+  if (!qp::is_usable(speed_.status) && st_.kept_ahead()) {
+    // Keeping ahead of a follower is a wish, not a constraint: without it.
+    speed::BasicStParams<Cfg> without = ctx.inputs.st;
+    without.keep_ahead = false;
+    st_.build(path_, ctx.sl->tracks(), without, s_guess, v_guess, bounds_);
+    si.a_min = bounds_.a_min;
+    speed_opt_.solve(si, bounds_, ctx.settings->speed_weights, speed_);
+    ++out.qp_solves;
+    out.qp_iterations += speed_.iterations;
+  }
   if (!qp::is_usable(speed_.status) && bounds_.a_min > ctx.limits.a_min) {
     si.a_min = ctx.limits.a_min;
     speed_opt_.solve(si, bounds_, ctx.settings->speed_weights, speed_);

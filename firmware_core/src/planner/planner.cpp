@@ -137,6 +137,7 @@ void BasicPlanner<Cfg>::stop_safely(const Scene* scene, Scalar now, FallbackReas
   in.previous_time = previous_time_;
   in.reference = &reference_;
   in.motions = sl_.motions();
+  in.lane = EgoLane{sl_.lane_target(), sl_.road().lane_width};
   in.comfort_decel = settings_.comfort_decel;
   safe_stop(in, reason, fallback_memory_, out);
 }

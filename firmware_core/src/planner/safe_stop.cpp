@@ -133,7 +133,7 @@ void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, Fallbac
     if (!have_state || invalid || attempt == 2) {
       break;
     }
-    const int hit = first_collision(*scene, in.motions, out).sample;
+    const int hit = first_collision(*scene, in.motions, out, in.lane).sample;
     if (hit < 0 || (attempt == 1 && hit >= comfortable_hit)) {
       break;
     }

@@ -83,6 +83,7 @@ void BasicSlScene<Cfg>::build(const Scene& scene, const ReferenceLine& line, Sca
   rear_ = scene::rear_overhang(scene.ego.geometry);
   front_ = scene.ego.geometry.length - rear_;
   s_start_ = s_start;
+  ego_l_ = line.to_frenet(geometry::Point2{scene.ego.state.x, scene.ego.state.y}).l;
   ego_v_ = scene.ego.state.v;
   road_.left = to_profile(scene.road.left, -settings.road_margin);
   road_.right = to_profile(scene.road.right, settings.road_margin);
@@ -142,6 +143,8 @@ void BasicSlScene<Cfg>::project_dynamics(const Scene& scene, const ReferenceLine
     ++track_count_;
     tr.id = o.id;
     tr.sweep_occupied = false;
+    tr.from_behind = false;
+    tr.follower = false;
     tr.crossing = false;
     bool seen = false;
     bool on_road = false;  // first seen on the road: its prediction stays there
@@ -174,6 +177,15 @@ void BasicSlScene<Cfg>::project_dynamics(const Scene& scene, const ReferenceLine
         tr.crossing = std::fabs(rel) > kCrossingHeadingLow && std::fabs(rel) < kCrossingHeadingHigh &&
                       std::fabs(p.v) >= kCrossingMinSpeed;
         tr.sweep_occupied = !tr.crossing && (oncoming || from_behind);
+        tr.from_behind = tr.sweep_occupied && !oncoming;
+        // First seen behind the ego in its (target) lane, coming its way, with
+        // the ego in that lane: a follower (the ST graph's; never a wall).
+        // Behind where the ego is by then at its speed: it may be first seen
+        // on the reference line a few samples on.
+        const bool ego_in_lane = std::fabs(ego_l_ - lane_target()) < Scalar(0.5) * road_.lane_width;
+        const bool behind_then =
+            tr.box[u].s_max < s_start_ + max_of(ego_v_, Scalar(0)) * kDt * static_cast<Scalar>(k);
+        tr.follower = behind_then && !other_lane && ego_in_lane && !oncoming && !tr.crossing;
         on_road = l_mid > road_.right.at(s_mid) && l_mid < road_.left.at(s_mid);
       }
       if (tr.crossing) {
@@ -209,17 +221,39 @@ void BasicSlScene<Cfg>::keep_on_road(Scalar s, geometry::SlBox& box) const {
 // horizon from the ego on (behind the ego nothing is planned, and behind the
 // reference line's start the frame runs straight, not along the lanes).
 template <class Cfg>
-geometry::SlBox BasicSlScene<Cfg>::occupied_sweep(const DynamicTrack& tr, geometry::SlBox b) const {
+bool BasicSlScene<Cfg>::occupied_sweep(const DynamicTrack& tr, geometry::SlBox& b) const {
+  // Traffic from behind that moves over into the ego's target lane becomes a
+  // follower there (its own business, RSS): its sweep covers only the
+  // lane(s) it comes from, never the target lane.
+  const Scalar half_lane = Scalar(0.5) * road_.lane_width;
+  bool any = false;
   for (std::size_t u = 0; u < static_cast<std::size_t>(Cfg::kStSamples); ++u) {  // Cfg::kStSamples
     const Scalar s_mid = Scalar(0.5) * (tr.box[u].s_min + tr.box[u].s_max);
-    if (tr.present[u] && tr.box[u].s_max >= s_start_ - rear_ && s_mid >= 0) {
-      b.s_min = min_of(b.s_min, tr.box[u].s_min);
-      b.s_max = max_of(b.s_max, tr.box[u].s_max);
-      b.l_min = min_of(b.l_min, tr.box[u].l_min);
-      b.l_max = max_of(b.l_max, tr.box[u].l_max);
+    if (!tr.present[u] || tr.box[u].s_max < s_start_ - rear_ || s_mid < 0) {
+      continue;
     }
+    geometry::SlBox q = tr.box[u];
+    if (tr.from_behind) {
+      const Scalar l_mid = Scalar(0.5) * (q.l_min + q.l_max);
+      if (std::fabs(l_mid - lane_target()) < half_lane) {
+        continue;  // in the target lane: a follower there
+      }
+      if (l_mid > lane_target()) {
+        q.l_min = max_of(q.l_min, lane_target() + half_lane);
+      } else {
+        q.l_max = min_of(q.l_max, lane_target() - half_lane);
+      }
+      if (!any) {
+        b = q;  // not the meeting box: that may lie in the target lane
+      }
+    }
+    any = true;
+    b.s_min = min_of(b.s_min, q.s_min);
+    b.s_max = max_of(b.s_max, q.s_max);
+    b.l_min = min_of(b.l_min, q.l_min);
+    b.l_max = max_of(b.l_max, q.l_max);
   }
-  return b;
+  return any || !tr.from_behind;
 }
 
 // Dynamic obstacles enter the convex space where the ego meets them: the first
@@ -238,8 +272,8 @@ int BasicSlScene<Cfg>::place_dynamic(const StSamples& s_guess, const bool* skip)
   std::size_t count = 0;
   for (int i = 0; i < track_count_; ++i) {  // <= kMaxDynamicObstacles
     const DynamicTrack& tr = tracks_[static_cast<std::size_t>(i)];
-    if (skip[i] || tr.crossing) {
-      continue;
+    if (skip[i] || tr.crossing || tr.follower) {
+      continue;  // the ST graph's alone
     }
     int meet = -1;
     int last = -1;
@@ -263,8 +297,8 @@ int BasicSlScene<Cfg>::place_dynamic(const StSamples& s_guess, const bool* skip)
       continue;  // never met, and behind the ego at the end: the ego passed it (the ST graph still sees it)
     }
     geometry::SlBox b = tr.box[static_cast<std::size_t>(k)];
-    if (tr.sweep_occupied) {
-      b = occupied_sweep(tr, b);
+    if (tr.sweep_occupied && !occupied_sweep(tr, b)) {
+      continue;  // all of it ahead of the ego lies in the target lane
     }
     b.s_min -= front_;
     b.s_max += rear_;

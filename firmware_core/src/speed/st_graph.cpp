@@ -5,6 +5,8 @@
 
 #include "itp/configurations.hpp"
 #include "itp/core/scalar_math.hpp"
+#include "itp/speed/braking.hpp"
+#include "itp/speed/keep_ahead.hpp"
 #include "itp/speed/path_footprint.hpp"
 
 namespace itp::speed {
@@ -18,22 +20,6 @@ constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSampl
 // sits on its active bound, so the strict test flipped on rounding.
 constexpr Scalar kOnLimit = Scalar(1e-6);
 
-
-// The speed spline is C2 and starts at the current acceleration, so full
-// braking cannot begin at once: allow this long to build it up.
-constexpr Scalar kBrakeOnset = Scalar(0.3);  // [s]
-
-// Distance the ego covers by time t braking at a_min after kBrakeOnset at v0
-// (then standing): the least any speed profile can cover.
-Scalar braking_distance(Scalar v0, Scalar a_min, Scalar t) {
-  if (t <= kBrakeOnset) {
-    return v0 * t;
-  }
-  const Scalar t_stop = v0 / -a_min;
-  const Scalar tb = t - kBrakeOnset;
-  const Scalar tt = tb < t_stop ? tb : t_stop;
-  return v0 * kBrakeOnset + v0 * tt + Scalar(0.5) * a_min * tt * tt;
-}
 
 // The braking the plan may use: comfortable when braking at comfort_decel
 // (after kBrakeOnset) keeps every upper bound, else the least constant
@@ -86,10 +72,21 @@ void classify(BasicStDecision<Cfg>& d, const BasicStParams<Cfg>& p,
   }
   const auto u1 = static_cast<std::size_t>(d.k1);
   const Scalar ego = s_guess[u1];
+  // A faster obstacle that meets the path behind the ego (its centre behind
+  // the ego's) closes in from behind: the gap is the follower's to keep
+  // (RSS). Neither yield to it (braking to let it pass through the ego is
+  // what gets the ego rear-ended) nor make way for it.
+  d.behind = Scalar(0.5) * (d.s_lo[u1] + d.s_hi[u1]) < ego;
+  if (d.behind && d.speed[u1] > v_guess[u1]) {
+    d.decision = Longitudinal::kIgnore;
+    d.follower = true;
+    return;
+  }
   if (ego >= d.s_hi[u1]) {
     // The ego is past the conflict zone when it is entered: stay ahead (15),
     // unless the obstacle is the faster one, closing in from behind.
-    d.decision = d.speed[u1] > v_guess[u1] ? Longitudinal::kIgnore : Longitudinal::kOvertake;
+    d.follower = d.speed[u1] > v_guess[u1];
+    d.decision = d.follower ? Longitudinal::kIgnore : Longitudinal::kOvertake;
     return;
   }
   // A leader moving along the path is followed at a safe gap for as long as
@@ -279,7 +276,7 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
     }
     classify(d, p, s_guess, v_guess);
     if (p.conservative && d.decision == Longitudinal::kOvertake) {
-      d.decision = Longitudinal::kYield;
+      d.decision = d.behind ? Longitudinal::kIgnore : Longitudinal::kYield;
     }
     static_cast<void>(decisions_.push_back(d));  // one per track <= kMaxDynamicObstacles = capacity
   }
@@ -303,9 +300,23 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
       }
     }
     if (!feasible) {
-      d.decision = Longitudinal::kYield;
+      // Never yield to what is behind the ego at t1: staying behind it means
+      // letting it drive through the ego. A follower then (keep ahead of it
+      // as far as braking for what lies ahead allows).
+      d.follower = d.behind;
+      d.decision = d.behind ? Longitudinal::kIgnore : Longitudinal::kYield;
     }
     apply(d, p, s_guess, v_guess, b);
+  }
+  kept_ahead_ = false;
+  if (p.keep_ahead && !p.conservative) {
+    std::array<Scalar, Cfg::kStSamples> s_max{};
+    reachable(p, b, s_max);
+    for (std::size_t i = 0; i < decisions_.size(); ++i) {  // <= kMaxDynamicObstacles
+      if (decisions_[i].follower && keep_ahead(decisions_[i], tracks[i], path, p, s_max, b)) {
+        kept_ahead_ = true;
+      }
+    }
   }
   // Never ask for less than full braking can give: keep s_hi reachable (a
   // collision that braking cannot avoid is caught by the collision check).

@@ -46,6 +46,7 @@ BasicCycleInputs<Cfg> make_cycle_inputs(const StartState& start, const scene::Ba
   const Scalar l_target = scene.road.target_lane_offset;
   in.st.s0 = start.s;
   in.st.v0 = start.v;
+  in.st.a0 = start.a;
   in.st.front = front;
   in.st.rear = rear;
   in.st.half_width = Scalar(0.5) * width;

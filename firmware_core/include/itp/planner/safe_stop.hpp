@@ -3,13 +3,15 @@
 // at the comfortable deceleration along the previous plan's path if that plan
 // is recent, else along the reference line at the lateral offset held since
 // the first fallback cycle, else (no usable reference) straight ahead. When
-// comfortable braking runs into an obstacle (collision_check.hpp) it brakes
+// comfortable braking runs into an obstacle (collision_check.hpp; a rear-end
+// by a follower does not count) it brakes
 // at the vehicle's limit, unless that collides sooner (traffic closing in
 // from behind): then comfortably after all. A function of its inputs and the
 // memory held across consecutive fallbacks; never fails.
 #include <span>
 
 #include "itp/geometry/reference_line.hpp"
+#include "itp/planner/collision_check.hpp"
 #include "itp/planner/plan.hpp"
 #include "itp/planner/sl_scene.hpp"
 #include "itp/scene/scene.hpp"
@@ -30,6 +32,7 @@ struct BasicSafeStopInput {
   Scalar previous_time = 0;                       // [s] its scene time
   const geometry::BasicReferenceLine<Cfg>* reference = nullptr;  // this cycle's
   std::span<const MotionSamples<Cfg>> motions;    // dynamic obstacles, for the collision check
+  EgoLane lane{};                                 // ... and its rear-end rule
   Scalar comfort_decel = Scalar(-3);              // [m/s^2] < 0
 };
 

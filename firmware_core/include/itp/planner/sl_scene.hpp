@@ -76,10 +76,13 @@ class BasicSlScene {
   void project_dynamics(const Scene& scene, const ReferenceLine& line, Scalar now,
                         Scalar dynamic_margin);
   void keep_on_road(Scalar s, geometry::SlBox& box) const;
-  geometry::SlBox occupied_sweep(const DynamicTrack& tr, geometry::SlBox box) const;
+  // Grows `box` over what an oncoming or from-behind mover covers over the
+  // horizon from the ego on; false: nothing of it is left (all in the target lane).
+  bool occupied_sweep(const DynamicTrack& tr, geometry::SlBox& box) const;
 
   RoadSl road_{};
   Scalar s_start_ = 0;  // [m] the ego's path s
+  Scalar ego_l_ = 0;    // [m] the ego's lateral offset
   Scalar ego_v_ = 0;    // [m/s]
   Scalar front_ = 0;    // [m]
   Scalar rear_ = 0;     // [m]

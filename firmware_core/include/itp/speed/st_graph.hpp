@@ -30,6 +30,14 @@ struct BasicDynamicTrack {
   // Oncoming, or first seen behind the ego: the path treats everything it
   // covers over the horizon as occupied (planner, place_dynamic).
   bool sweep_occupied = false;
+  // ... for the second reason: traffic from behind in another lane than the
+  // ego's target lane (where it moves into the target lane, a follower there).
+  bool from_behind = false;
+  // First seen behind the ego in the ego's (target) lane, moving its way,
+  // with the ego in that lane: it can meet the ego only by running into it
+  // from behind, which is its business (RSS); never a wall in the convex
+  // space (a lateral decision around it swerved the ego out of its lane).
+  bool follower = false;
   // Crossing the road (or its sweep leaves no passage): never a wall in the
   // convex space, only the ST graph's (yield); planner, project_obstacles.
   bool crossing = false;
@@ -55,6 +63,10 @@ struct BasicStDecision {
       s_lo{};  // [m] forbidden interval of the ego's speed-s, when in conflict
   std::array<Scalar, Cfg::kStSamples> s_hi{};
   std::array<Scalar, Cfg::kStSamples> speed{};  // [m/s] obstacle's speed along the path
+  // Ignored because it closes in from behind (a follower): the ego keeps
+  // ahead of it where it is in line with the path and braking allows.
+  bool follower = false;
+  bool behind = false;  // its centre behind the ego's (guessed) one at t1
 };
 
 // The safe following distance of RSS (Shalev-Shwartz et al., "On a Formal
@@ -84,6 +96,7 @@ template <class Cfg>
 struct BasicStParams {
   Scalar s0 = 0;                     // [m] path s of the ego
   Scalar v0 = 0;                     // [m/s]
+  Scalar a0 = 0;                     // [m/s^2]
   Scalar front = Scalar(3.8);        // [m] rear axle to front bumper
   Scalar rear = Scalar(1.0);         // [m] rear overhang
   Scalar half_width = Scalar(0.95);  // [m] ego half width
@@ -105,6 +118,11 @@ struct BasicStParams {
   // and the curvature speed limit at t is the lowest over every position the
   // ego can reach by t (not just the guessed one).
   bool conservative = false;
+  // Keep ahead of followers (StDecision::follower) while comfortable braking
+  // still meets every upper bound: no braking earlier than what lies ahead
+  // needs when traffic closes in from behind. Off in the conservative retry,
+  // and in the retry when the speed QP fails with it.
+  bool keep_ahead = true;
   const decision::BasicCurvatureProfile<Cfg>* kappa_ref = nullptr;
 };
 
@@ -127,9 +145,12 @@ class BasicStGraph {
   const StaticVector<StDecision, Cfg::kMaxDynamicObstacles>& decisions() const {
     return decisions_;
   }
+  // The last build raised a lower bound to keep ahead of a follower.
+  bool kept_ahead() const { return kept_ahead_; }
 
  private:
   StaticVector<StDecision, Cfg::kMaxDynamicObstacles> decisions_;
+  bool kept_ahead_ = false;
 };
 
 // The reference profile: from v0, accelerate at a_max (or brake at a_min) towards
