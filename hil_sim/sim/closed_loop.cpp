@@ -60,13 +60,34 @@ std::vector<OrientedBox> obstacle_boxes(const World& w, double t) {
   return boxes;
 }
 
+// Velocities of the obstacles obstacle_boxes() lists, in the same order:
+// statics stand, movers' from their motion over the last 0.1 s (0 in their
+// first 0.1 s).
+std::vector<Point2> obstacle_velocities(const World& w, double t) {
+  constexpr double kDt = 0.1;
+  std::vector<Point2> v(w.static_obstacles.size(), Point2{});
+  for (const auto& d : w.dynamic_obstacles) {
+    const auto p = pose_at(d, t);
+    if (!p) continue;
+    const auto before = pose_at(d, t - kDt);
+    if (before) {
+      v.push_back({(p->x - before->x) / kDt, (p->y - before->y) / kDt});
+    } else {
+      v.push_back({0.0, 0.0});
+    }
+  }
+  return v;
+}
+
 // The simulator's view of the ego at one step (everything but the plan status).
 StepSample observe(const World& w, const VehicleState& st, const VehicleParams& vp, double t) {
   StepSample x;
   x.t = t;
   const Pose pose{st.x, st.y, st.heading};
   x.ego = ego_box(pose, vp.length, vp.width, vp.wheelbase);
+  x.ego_velocity = Point2{st.v * std::cos(st.heading), st.v * std::sin(st.heading)};
   x.obstacles = obstacle_boxes(w, t);
+  x.obstacle_velocities = obstacle_velocities(w, t);
   const PolylineProjection pr = project_to_polyline(w.reference_line, st.x, st.y);
   x.progress_s = pr.s;
   x.lateral_offset = pr.l;
@@ -365,6 +386,9 @@ std::string summary_table(const json& rep) {
   row("scenes", num(rep["scenes"]));
   row("cycles", num(rep["cycles"]));
   row("collisions (scenes)", fmt::format("{} ({} steps)", num(rep["collisions"]), num(rep["collision_steps"])));
+  if (rep.contains("collisions_ran_into")) {
+    row("  the ego ran into / was hit", fmt::format("{} / {}", num(rep["collisions_ran_into"]), num(rep["collisions_hit"])));
+  }
   row("road departures (scenes)", fmt::format("{} ({} steps)", num(rep["road_departures"]), num(rep["road_departure_steps"])));
   std::string reasons;
   for (const auto& [k, v] : rep["fallback_reasons"].items()) {

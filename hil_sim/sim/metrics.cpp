@@ -26,11 +26,30 @@ SceneMetrics::SceneMetrics(std::string name, std::vector<std::string> tags) {
   s_.tags = std::move(tags);
 }
 
+SceneSummary::CollisionKind who_ran_into(const OrientedBox& ego, Point2 v_ego, const OrientedBox& obstacle,
+                                          Point2 v_obstacle) {
+  double nx = obstacle.cx - ego.cx;
+  double ny = obstacle.cy - ego.cy;
+  const double norm = std::hypot(nx, ny);
+  if (norm > 0.0) {
+    nx /= norm;
+    ny /= norm;
+  }
+  const double ego_share = v_ego.x * nx + v_ego.y * ny;
+  const double obstacle_share = -(v_obstacle.x * nx + v_obstacle.y * ny);
+  return ego_share >= obstacle_share ? SceneSummary::CollisionKind::kRanInto : SceneSummary::CollisionKind::kHit;
+}
+
 void SceneMetrics::add_step(const StepSample& x) {
   ++s_.steps;
   bool hit = false;
-  for (const auto& o : x.obstacles) {
+  for (std::size_t i = 0; i < x.obstacles.size(); ++i) {
+    const OrientedBox& o = x.obstacles[i];
     const double d = box_distance(x.ego, o);
+    if (d <= 0.0 && s_.collision_kind == SceneSummary::CollisionKind::kNone) {
+      const Point2 v_obs = i < x.obstacle_velocities.size() ? x.obstacle_velocities[i] : Point2{};
+      s_.collision_kind = who_ran_into(x.ego, x.ego_velocity, o, v_obs);
+    }
     hit = hit || d <= 0.0;
     s_.min_clearance_m = s_.min_clearance_m ? std::min(*s_.min_clearance_m, d) : d;
   }
@@ -155,6 +174,15 @@ json left_out_json(int cycles, int total, int max_per_cycle) {
 }
 }  // namespace
 
+const char* collision_kind_name(SceneSummary::CollisionKind k) {
+  switch (k) {
+    case SceneSummary::CollisionKind::kRanInto: return "ran_into";
+    case SceneSummary::CollisionKind::kHit: return "hit";
+    case SceneSummary::CollisionKind::kNone: break;
+  }
+  return "none";
+}
+
 json scene_summary_json(const SceneSummary& s) {
   std::vector<double> it(s.iterations.begin(), s.iterations.end());
   const Stats is = compute_stats(it);
@@ -165,6 +193,7 @@ json scene_summary_json(const SceneSummary& s) {
             {"cycles", s.cycles},
             {"collisions", s.collision_steps > 0 ? 1 : 0},
             {"collision_steps", s.collision_steps},
+            {"collision_kind", collision_kind_name(s.collision_kind)},
             {"road_departures", s.road_departure_steps > 0 ? 1 : 0},
             {"road_departure_steps", s.road_departure_steps},
             {"max_road_excess_m", s.max_road_excess_m},
@@ -198,6 +227,7 @@ void SuiteAggregator::add(SceneSummary scene) { scenes_.push_back(std::move(scen
 
 json SuiteAggregator::report(const std::string& target) const {
   int cycles = 0, collisions = 0, collision_steps = 0, departures = 0, departure_steps = 0;
+  int ran_into = 0, hit = 0;
   int fallbacks = 0, invalid = 0, link_errors = 0, crashes = 0;
   int left_out_cycles = 0, left_out_total = 0, left_out_max = 0;
   std::optional<double> min_clear;
@@ -212,6 +242,8 @@ json SuiteAggregator::report(const std::string& target) const {
     cycles += s.cycles;
     collisions += s.collided() ? 1 : 0;
     collision_steps += s.collision_steps;
+    ran_into += s.collision_kind == SceneSummary::CollisionKind::kRanInto ? 1 : 0;
+    hit += s.collision_kind == SceneSummary::CollisionKind::kHit ? 1 : 0;
     departures += s.departed() ? 1 : 0;
     departure_steps += s.road_departure_steps;
     fallbacks += s.fallbacks;
@@ -261,6 +293,8 @@ json SuiteAggregator::report(const std::string& target) const {
             {"instructions_per_cycle", {{"median", opt(in.median)}, {"max", opt(in.max)}}},
             // Extensions (optional keys, docs/simulation.md).
             {"collision_steps", collision_steps},
+            {"collisions_ran_into", ran_into},
+            {"collisions_hit", hit},
             {"road_departure_steps", departure_steps},
             {"fallback_reasons", reasons},
             {"max_abs_jerk", any ? json(max_jerk) : json(nullptr)},

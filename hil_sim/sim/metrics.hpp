@@ -26,7 +26,9 @@ double road_margin(std::span<const Point2> reference_line, const Road& road, con
 struct StepSample {
   double t = 0.0;                         // [s]
   OrientedBox ego;                        // true footprint
+  Point2 ego_velocity;                    // [m/s] world frame
   std::vector<OrientedBox> obstacles;     // true footprints of the obstacles present
+  std::vector<Point2> obstacle_velocities;  // [m/s] per obstacle (empty: all standing)
   double progress_s = 0.0;                // [m] ego's s along the reference line
   double lateral_offset = 0.0;            // [m] ego's l (rear axle)
   double heading_error = 0.0;             // [rad] ego heading - reference heading
@@ -46,6 +48,12 @@ struct SceneSummary {
   int steps = 0;
   int cycles = 0;                       // steps with status != kNone
   int collision_steps = 0;              // steps with any ego/obstacle overlap
+  // The first collision: the ego ran into the obstacle, or was hit by it.
+  // Of the closing speed along the line between the two centres (ego to
+  // obstacle), the ego's share v_ego . n and the obstacle's -v_obs . n; the
+  // larger share is the one that ran into the other (a tie: the ego).
+  enum class CollisionKind { kNone, kRanInto, kHit };
+  CollisionKind collision_kind = CollisionKind::kNone;
   std::optional<double> min_clearance_m;  // nullopt: no obstacle was ever present
   int road_departure_steps = 0;         // steps with road_margin < 0
   double max_road_excess_m = 0.0;       // max(-road_margin, 0)
@@ -78,6 +86,12 @@ struct SceneSummary {
   bool collided() const { return collision_steps > 0; }
   bool departed() const { return road_departure_steps > 0; }
 };
+
+// The kind of a contact between the ego and an obstacle moving at the given
+// velocities (SceneSummary::collision_kind).
+SceneSummary::CollisionKind who_ran_into(const OrientedBox& ego, Point2 v_ego, const OrientedBox& obstacle,
+                                          Point2 v_obstacle);
+const char* collision_kind_name(SceneSummary::CollisionKind kind);
 
 class SceneMetrics {
  public:

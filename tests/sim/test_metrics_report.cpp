@@ -76,6 +76,37 @@ TEST_CASE("metrics: collisions, clearance, departures, fallbacks, comfort, plan 
   CHECK(*s.max_plan_deviation_m == doctest::Approx(0.3));
 }
 
+TEST_CASE("metrics: a collision is the ego running into something or being hit, by closing speed") {
+  const OrientedBox ego{0.0, 0.0, 0.0, 4.8, 1.9};
+  const OrientedBox ahead{4.5, 0.0, 0.0, 4.0, 1.8};
+  const OrientedBox behind{-4.5, 0.0, 0.0, 4.0, 1.8};
+  // Into a standing car ahead; into a slower one; a faster follower into a
+  // standing ego; a faster follower into a moving ego; a car from the left
+  // side into a standing ego.
+  CHECK(who_ran_into(ego, {10, 0}, ahead, {0, 0}) == SceneSummary::CollisionKind::kRanInto);
+  CHECK(who_ran_into(ego, {10, 0}, ahead, {6, 0}) == SceneSummary::CollisionKind::kRanInto);
+  CHECK(who_ran_into(ego, {0, 0}, behind, {8, 0}) == SceneSummary::CollisionKind::kHit);
+  CHECK(who_ran_into(ego, {5, 0}, behind, {9, 0}) == SceneSummary::CollisionKind::kHit);
+  CHECK(who_ran_into(ego, {0, 0}, OrientedBox{0.0, 2.5, -1.57, 4.0, 1.8}, {0, -3}) ==
+        SceneSummary::CollisionKind::kHit);
+  // In a run: the first contact's kind is the scene's, in the report too.
+  SceneMetrics m("rear-end");
+  StepSample x = step(0.0, 0.0, -10.0);
+  x.obstacle_velocities = {Point2{8, 0}};
+  m.add_step(x);
+  x = step(0.1, 0.0, -4.0);
+  x.obstacle_velocities = {Point2{8, 0}};
+  m.add_step(x);
+  CHECK(m.summary().collision_kind == SceneSummary::CollisionKind::kHit);
+  SuiteAggregator agg;
+  agg.add(m.summary());
+  const nlohmann::json rep = agg.report("inproc");
+  CHECK(rep["collisions"] == 1);
+  CHECK(rep["collisions_hit"] == 1);
+  CHECK(rep["collisions_ran_into"] == 0);
+  CHECK(rep["per_scene"][0]["collision_kind"] == "hit");
+}
+
 TEST_CASE("stats: median, nearest-rank p99, max") {
   std::vector<double> v;
   for (int i = 100; i >= 1; --i) v.push_back(i);
