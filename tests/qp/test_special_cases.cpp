@@ -217,11 +217,13 @@ TEST_CASE("bad inputs are rejected with kInvalidInput") {
   CHECK_FALSE(p.reset(2, 17));
 }
 
-TEST_CASE("non-convex H is reported as kNotConvex; regularisation is opt-in") {
+TEST_CASE("a semidefinite H is solved exactly; kNotConvex needs a negative eigenvalue") {
   auto in = std::make_unique<Instance<D8>>();
   auto& p = in->problem;
   REQUIRE(p.reset(3, 0));
-  // H = [[1,1,0],[1,1,0],[0,0,1]] is semidefinite
+  // H = [[1,1,0],[1,1,0],[0,0,1]] is semidefinite (null vector (1,-1,0)).
+  // min 1/2 (x0 + x1)^2 + 1/2 x2^2 + x0 on |x0|, |x1| <= 1: the objective is
+  // >= x0 >= -1, reached only at x = (-1, 1, 0) (x0 + x1 = 0), so -1 there.
   p.set_hessian(0, 0, 1.0);
   p.set_hessian(1, 0, 1.0);
   p.set_hessian(1, 1, 1.0);
@@ -229,15 +231,58 @@ TEST_CASE("non-convex H is reported as kNotConvex; regularisation is opt-in") {
   p.lb[0] = p.lb[1] = -1.0;
   p.ub[0] = p.ub[1] = 1.0;
   p.g[0] = 1.0;
-  CHECK(in->solve() == QpStatus::kNotConvex);
-  in->settings.regularisation = 1e-8;
-  CHECK(in->solve() == QpStatus::kOptimal);
-  in->settings.regularisation = 0.0;
-  p.set_hessian(1, 1, -2.0);  // indefinite
+  REQUIRE(in->solve() == QpStatus::kOptimal);
+  CHECK(in->result.proximal_steps > 0);
+  CHECK(in->result.x[0] == doctest::Approx(-1.0).epsilon(1e-12));
+  CHECK(in->result.x[1] == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(std::abs(in->result.x[2]) < 1e-9);
+  CHECK(in->result.objective == doctest::Approx(-1.0).epsilon(1e-12));
+  CHECK(kkt_residual(p, in->result).max() < 1e-8);
+  // A user-chosen proximal weight gives the same optimum, not a perturbed one.
+  in->settings.proximal_weight = 1e-2;
+  REQUIRE(in->solve() == QpStatus::kOptimal);
+  CHECK(in->result.x[1] == doctest::Approx(1.0).epsilon(1e-9));
+  in->settings.proximal_weight = 0.0;
+  p.set_hessian(1, 1, -2.0);  // indefinite: v = (1, -1, 0) gives v'Hv = -1
   CHECK(in->solve() == QpStatus::kNotConvex);
   // hotstart is refused after a failed factorisation
   QpResult<D8> r;
   CHECK(solve_hot(p, in->ws, in->settings, r) == QpStatus::kNotFactored);
+  // A negative eigenvalue below the proximal weight is still found (the
+  // shifted factor fails too, and its witness is checked against H itself).
+  p.set_hessian(1, 1, 1.0 - 1e-9);  // eigenvalues of the block: ~2, ~-5e-10
+  CHECK(in->solve() == QpStatus::kNotConvex);
+  // H = diag(0, -1e-9): the first pivot fails only by being zero, H + eps I is
+  // positive definite, and the proximal steps find d'Hd < 0 along x1.
+  REQUIRE(p.reset(2, 0));
+  p.set_hessian(1, 1, -1e-9);
+  p.g[0] = 1.0;
+  p.g[1] = 1e-3;
+  p.lb[0] = p.lb[1] = -1.0;
+  p.ub[0] = p.ub[1] = 1.0;
+  CHECK(in->solve() == QpStatus::kNotConvex);
+}
+
+TEST_CASE("a convex QP unbounded below is kUnbounded, a bounded LP is solved") {
+  auto in = std::make_unique<Instance<D8>>();
+  auto& p = in->problem;
+  // min 1/2 x0^2 - x1 s.t. x0 + x1 <= 1, x1 >= -5: x1 = 1 - x0 -> 1/2 x0^2 + x0 - 1,
+  // optimum x0 = -1, x1 = 2, objective -1.5 (x1 only has a linear cost).
+  REQUIRE(p.reset(2, 1));
+  p.set_hessian(0, 0, 1.0);
+  p.g[1] = -1.0;
+  p.push_row_entry(0, 0, 1.0);
+  p.push_row_entry(0, 1, 1.0);
+  p.uba[0] = 1.0;
+  p.lb[1] = -5.0;
+  REQUIRE(in->solve() == QpStatus::kOptimal);
+  CHECK(in->result.x[0] == doctest::Approx(-1.0).epsilon(1e-9));
+  CHECK(in->result.x[1] == doctest::Approx(2.0).epsilon(1e-9));
+  CHECK(in->result.objective == doctest::Approx(-1.5).epsilon(1e-9));
+  // Without the row, x1 runs to +inf: unbounded, never "optimal" or a limit.
+  p.m = 0;
+  CHECK(in->solve() == QpStatus::kUnbounded);
+  CHECK_FALSE(in->result.usable());
 }
 
 TEST_CASE("the iteration limit is honoured and flags the iterate unusable") {

@@ -161,11 +161,13 @@ void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& de
     observer_->path(observer_->context, problem_);
   }
   const qp::QpStatus st = qp::solve_hot_or_cold(problem_, workspace_, settings_, result_, same, have_factor_);
-  // A path QP that failed (infeasible, or at the iteration cap) still leaves a
-  // valid factor of H, and its working set is where the corridor pinches: the
-  // next solve, usually the same corridor at the steering limit, hotstarts
-  // from it instead of cold (e.g. 2 or 17-30 iterations where cold hit the cap of 60).
-  if (st == qp::QpStatus::kInfeasible || st == qp::QpStatus::kIterationLimit) {
+  // A path QP that failed (infeasible, at the iteration cap, or in numerical
+  // trouble) still leaves a valid factor of H, and its working set is where
+  // the corridor pinches: the next solve, usually the same corridor at the
+  // steering limit, hotstarts from it instead of cold (e.g. 2 or 17-30
+  // iterations where cold hit the cap of 60).
+  if (st == qp::QpStatus::kInfeasible || st == qp::QpStatus::kIterationLimit ||
+      st == qp::QpStatus::kNumericalTrouble) {
     have_factor_ = true;
   }
   factored_h_ = h;
