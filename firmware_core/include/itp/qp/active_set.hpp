@@ -48,11 +48,12 @@ struct ActiveSetSolver {
   Workspace& ws;
   const QpSettings<S>& s;
 
-  // active_side value of a constraint set aside for the rest of the solve: a
-  // violated constraint that is linearly dependent on W and consistent with
-  // it (its dual ray gives no ascent), i.e. violated only by the rounding of
-  // the active constraints it combines. The scan skips it (side != 0);
-  // primal_verified() checks it; clear_set_aside() ends the solve.
+  // active_side value of a constraint set aside for the rest of the solve:
+  // one whose violation is rounding of W, seen either as a dependent row whose
+  // dual ray gives no ascent, or as a constraint that leaves again at once
+  // with a zero step (a violated constraint enters with a positive multiplier
+  // in exact arithmetic). Re-adding it would cycle. The scan skips it (side
+  // != 0); primal_verified() checks it; clear_set_aside() ends the solve.
   static constexpr std::int8_t kSetAside = 2;
 
   static bool is_bound(int c) { return c < kN; }
@@ -397,21 +398,28 @@ struct ActiveSetSolver {
 
   // Each pass of the loop either stops, refactorises (at most
   // kMaxRefactorisations times), switches to refined multipliers (once), sets
-  // a constraint aside (at most once per constraint) or changes the working
-  // set (counted; at most max_iterations times): at most kMaxPasses passes.
+  // a constraint aside (at most once per constraint per solve) or changes the
+  // working set (counted; at most max_iterations times): at most kMaxPasses.
   static constexpr int kMaxPasses = D::kMaxIterations + D::kMaxRefactorisations + D::kMaxConstraints + 2;
 
   QpStatus iterate(int max_iterations, QpResult<D>& res) {
+    // zero_steps: consecutive zero-length removals since the last add (the
+    // switch to Bland's rule). stalled: passes since the dual iterate last
+    // moved (adds do not count as progress), the cycle guard: the dual
+    // objective rises strictly with every nonzero step, so a long run without
+    // one is a cycle made by rounding.
     int zero_steps = 0;
+    int stalled = 0;
+    int last_added = -1;   // constraint added in the previous pass, else -1
     bool precise = false;  // refine lambda* (after the refactorisations failed)
     int& it = res.iterations;
     for (int pass = 0; pass < kMaxPasses; ++pass) {
-      if (zero_steps > D::kMaxZeroRun) {
-        // Bland's rule cannot cycle in exact arithmetic; a run this long is
-        // rounding. Start again from a fresh factor, once per budget.
+      if (stalled > D::kMaxZeroRun) {
+        // Start again from a fresh factor, once per budget.
         if (res.refactorisations >= D::kMaxRefactorisations) return QpStatus::kNumericalTrouble;
         ++res.refactorisations;
         refactor();
+        stalled = 0;
         zero_steps = 0;
         continue;
       }
@@ -436,10 +444,14 @@ struct ActiveSetSolver {
           }
         }
         if (block < 0) {
+          bool moved = false;
           for (int i = 0; i < w; ++i) {
             const S l = ws.lambda_star[i];
-            ws.lambda[i] = (l < S(0) && !is_equality(ws.w_index[i])) ? S(0) : l;
+            const S next = (l < S(0) && !is_equality(ws.w_index[i])) ? S(0) : l;
+            moved = moved || next != ws.lambda[i];
+            ws.lambda[i] = next;
           }
+          stalled = moved ? 0 : stalled + 1;
           primal_from_dual();
           int side = 0;
           int c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side);
@@ -468,17 +480,33 @@ struct ActiveSetSolver {
           // arithmetic: the factor has lost rank information.
           if (ws.w_size >= kA) return QpStatus::kNumericalTrouble;
           add(c, side);
+          last_added = c;
           ++it;
           zero_steps = 0;
         } else {
           if (it >= max_iterations) return QpStatus::kIterationLimit;
+          const int leaving = ws.w_index[block];
+          if (leaving == last_added && !(best > S(0))) {
+            // The constraint just added leaves again at once, x unchanged: in
+            // exact arithmetic a violated constraint enters with a positive
+            // multiplier, so its violation is rounding of W. Removing it
+            // would select it again (a cycle); set it aside instead.
+            remove(block);
+            ws.active_side[leaving] = kSetAside;
+            ++ws.set_aside;
+            last_added = -1;
+            ++stalled;
+            continue;
+          }
           for (int i = 0; i < w; ++i) {
             ws.lambda[i] += best * (ws.lambda_star[i] - ws.lambda[i]);
           }
           ws.lambda[block] = S(0);
           remove(block);
           ++it;
+          last_added = -1;
           zero_steps = best > S(0) ? 0 : zero_steps + 1;
+          stalled = best > S(0) ? 0 : stalled + 1;
         }
       } else {
         // Dependent last row: p with M_W' p = 0, p_last = 1, is a direction of
@@ -534,7 +562,9 @@ struct ActiveSetSolver {
         ws.lambda[block] = S(0);
         remove(block);
         ++it;
+        last_added = -1;
         zero_steps = best > S(0) ? 0 : zero_steps + 1;
+        stalled = best > S(0) ? 0 : stalled + 1;
       }
     }
     return QpStatus::kIterationLimit;
