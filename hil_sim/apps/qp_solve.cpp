@@ -4,10 +4,12 @@
 //
 //   qp_solve [--repeat N] [--warm | --hot] [--json] [--check] [settings...] FILE...
 //
-// Two compile-time variants of the one solver: the banded host shape (n <= 160,
-// m <= 800, <= 32 nonzeros per row, H half-bandwidth <= 16) and the general
-// shape (dense H, any row, n <= 160, m <= 1200); each file goes to the first
-// that fits.
+// Compile-time variants of the one solver, tried in this order, each file
+// going to the first that fits: the planner's own coarse, speed and path
+// shapes (so that a dumped planner QP is solved by exactly the instance the
+// planner runs, with its loop lengths and memory footprint), the banded host
+// shape (n <= 160, m <= 800, <= 32 nonzeros per row, H half-bandwidth <= 16)
+// and the general shape (dense H, any row, n <= 160, m <= 1200).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -29,8 +31,12 @@
 
 namespace {
 
+using CoarseQp = itp::qp::CoarseQpDims<double>;
+using SpeedQp = itp::qp::SpeedQpDims<double>;
+using PathQp = itp::qp::PathQpDims<double>;
 using BandedQp = itp::qp::QpDims<double, 160, 800, 32, 16>;
 using GeneralQp = itp::qp::GeneralQpDims<double>;
+constexpr const char* kVariantNames[] = {"coarse", "speed", "path", "banded", "general"};
 
 // One file as read: the dense data, its constant and where it came from.
 struct Input {
@@ -254,9 +260,10 @@ int main(int argc, char** argv) {
       "(free MPS with QUADOBJ/QSECTION, RANGES, BOUNDS) files with the firmware's dual active-set\n"
       "solver (docs/qp.md). Per file: status, objective (QPS: with its constant), iterations,\n"
       "max KKT residual, median time over --repeat runs, the deviation from x_ref / obj_ref or\n"
-      "--references, and for 'infeasible' the dual ray and its check. Variants: banded (n <= 160,\n"
-      "m <= 800, <= 32 nonzeros per row, H half-bandwidth <= 16) or general (n <= 160, m <= 1200,\n"
-      "any structure), whichever fits first."};
+      "--references, and for 'infeasible' the dual ray and its check. Variants, the first that\n"
+      "fits: the planner's coarse (40 x 20), speed (45 x 210) and path (63 x 400) shapes, banded\n"
+      "(n <= 160, m <= 800, <= 32 nonzeros per row, H half-bandwidth <= 16), general (n <= 160,\n"
+      "m <= 1200, any structure)."};
   std::vector<std::string> files;
   Options opt;
   auto& st = opt.settings;
@@ -347,7 +354,13 @@ int main(int argc, char** argv) {
   for (std::size_t k = 0; k < inputs.size(); ++k) {
     int bw = 0, nnz = 0;
     shape(inputs[k].qp, bw, nnz);
-    variant[k] = fits<BandedQp>(inputs[k].qp, bw, nnz) ? 0 : (fits<GeneralQp>(inputs[k].qp, bw, nnz) ? 1 : -1);
+    const auto& q = inputs[k].qp;
+    variant[k] = fits<CoarseQp>(q, bw, nnz)   ? 0
+                 : fits<SpeedQp>(q, bw, nnz)  ? 1
+                 : fits<PathQp>(q, bw, nnz)   ? 2
+                 : fits<BandedQp>(q, bw, nnz) ? 3
+                 : fits<GeneralQp>(q, bw, nnz) ? 4
+                                               : -1;
   }
   const bool sequence = opt.warm || opt.hot;
   const int passes = sequence ? opt.repeat : 1;
@@ -356,21 +369,34 @@ int main(int argc, char** argv) {
   std::vector<nlohmann::json> records(inputs.size());
   std::vector<bool> ok(inputs.size(), false);
   for (int pass = 0; pass < passes; ++pass) {
+    auto coarse = std::make_unique<Solver<CoarseQp>>();
+    auto speed = std::make_unique<Solver<SpeedQp>>();
+    auto path = std::make_unique<Solver<PathQp>>();
     auto banded = std::make_unique<Solver<BandedQp>>();
     auto general = std::make_unique<Solver<GeneralQp>>();
     for (std::size_t k = 0; k < inputs.size(); ++k) {
       if (variant[k] < 0) continue;
-      Outcome last;
-      for (int r = 0; r < per_file; ++r) {
-        last = variant[k] == 0 ? solve_once(*banded, inputs[k], opt) : solve_once(*general, inputs[k], opt);
-        times[k].push_back(last.time_us);
-      }
-      if (pass + 1 < passes) continue;
-      // Final pass: the solver state is this file's; report it now.
+      const bool final_pass = pass + 1 == passes;
       bool good = false;
-      records[k] = variant[k] == 0 ? report(*banded, inputs[k], last, times[k], "banded", opt, good)
-                                   : report(*general, inputs[k], last, times[k], "general", opt, good);
-      ok[k] = good;
+      // Solves file k per_file times with solver s; on the final pass reports it.
+      auto run = [&](auto& s) {
+        Outcome last;
+        for (int r = 0; r < per_file; ++r) {
+          last = solve_once(s, inputs[k], opt);
+          times[k].push_back(last.time_us);
+        }
+        if (final_pass) {
+          records[k] = report(s, inputs[k], last, times[k], kVariantNames[variant[k]], opt, good);
+          ok[k] = good;
+        }
+      };
+      switch (variant[k]) {
+        case 0: run(*coarse); break;
+        case 1: run(*speed); break;
+        case 2: run(*path); break;
+        case 3: run(*banded); break;
+        default: run(*general); break;
+      }
     }
   }
   int solved = 0, wrong_optimal = 0, wrong_infeasible = 0;

@@ -141,6 +141,7 @@ struct ActiveSetSolver {
 
   void reset_working_set() {
     ws.w_size = 0;
+    ws.fwd_valid = 0;
     ws.last_singular = false;
     ws.free_count = kA;
     for (int i = 0; i < kA; ++i) ws.free_slots[i] = static_cast<std::int16_t>(kA - 1 - i);
@@ -173,10 +174,11 @@ struct ActiveSetSolver {
       ws.w_side[i] = ws.w_side[i + 1];
       ws.slot_of[i] = ws.slot_of[i + 1];
       ws.lambda[i] = ws.lambda[i + 1];
-      ws.lambda_star[i] = ws.lambda_star[i + 1];
       ws.d_w[i] = ws.d_w[i + 1];
     }
     ws.w_size = w - 1;
+    // Rows r.. of the factor changed: their forward entries must be redone.
+    if (ws.fwd_valid > r) ws.fwd_valid = r;
     if (ws.last_singular && ws.w_size > 0) {
       // The dependent row is still last; the update recomputed its pivot.
       const int last = ws.w_size - 1;
@@ -192,6 +194,7 @@ struct ActiveSetSolver {
   // Recomputes rows of M and the LDL' of K from scratch in the current order,
   // dropping rows that turn out to be dependent (except a dependent last row).
   void refactor() {
+    ws.fwd_valid = 0;
     const int w = ws.w_size;
     const bool had_singular = ws.last_singular;
     int k = 0;
@@ -240,7 +243,6 @@ struct ActiveSetSolver {
     }
   }
 
-  // x = L^-T u + x_unc with u = -M_W' lambda.
   void primal_from_dual() {
     for (int j = 0; j < p.n; ++j) ws.u[j] = S(0);
     for (int i = 0; i < ws.w_size; ++i) {
@@ -377,23 +379,46 @@ struct ActiveSetSolver {
   // every refactorisation (the factor is then as good as it gets, and the
   // multipliers of an ill-conditioned K are what is left to improve), as is
   // polish() (always used with a singular H).
-  // Scratch: scratch2 (u*), scratch (rho, then the correction).
-  void refine_multipliers() {
+  // Scratch: ws.u (u*; recomputed by primal_from_dual before any use),
+  // scratch2 (rho, then the correction).
+  void refine_multipliers(S* lambda_star) {
     const int w = ws.w_size;
-    S* us = ws.scratch2;
-    S* rho = ws.scratch;
+    S* us = ws.u;
+    S* rho = ws.scratch2;
     for (int j = 0; j < p.n; ++j) us[j] = S(0);
     for (int i = 0; i < w; ++i) {
       const int slot = ws.slot_of[i];
       const S* row = ws.m_rows[slot];
-      for (int j = ws.m_start[slot]; j < p.n; ++j) us[j] -= ws.lambda_star[i] * row[j];
+      for (int j = ws.m_start[slot]; j < p.n; ++j) us[j] -= lambda_star[i] * row[j];
     }
     for (int i = 0; i < w; ++i) {
       const int slot = ws.slot_of[i];
       rho[i] = dense_dot(ws.m_rows[slot], us, ws.m_start[slot]) - ws.d_w[i];
     }
     ldl::solve(ws.ldl_l, ws.ldl_d, w, rho);
-    for (int i = 0; i < w; ++i) ws.lambda_star[i] += rho[i];
+    for (int i = 0; i < w; ++i) lambda_star[i] += rho[i];
+  }
+
+  // lambda* = -K^-1 d_W into `out` (w entries), with the forward half cached
+  // in fwd_d: the same operations in the same order as ldl::solve (bit-
+  // identical results), but only the entries from fwd_valid on are redone
+  // (after an add that is one row, O(w) instead of O(w^2) for the forward half).
+  void multipliers(S* out) {
+    const int w = ws.w_size;
+    S* y = ws.fwd_d;
+    for (int i = ws.fwd_valid; i < w; ++i) {
+      const S* li = ws.ldl_l + ldl::row_offset(i);
+      S acc = -ws.d_w[i];
+      for (int j = 0; j < i; ++j) acc -= li[j] * y[j];
+      y[i] = acc;
+    }
+    ws.fwd_valid = w;
+    for (int i = 0; i < w; ++i) out[i] = y[i] / ws.ldl_d[i];
+    for (int i = w - 1; i >= 0; --i) {
+      const S bi = out[i];
+      const S* li = ws.ldl_l + ldl::row_offset(i);
+      for (int j = 0; j < i; ++j) out[j] -= li[j] * bi;
+    }
   }
 
   // Each pass of the loop either stops, refactorises (at most
@@ -426,17 +451,19 @@ struct ActiveSetSolver {
       const bool bland = zero_steps > D::kMaxZeroSteps;
       const int w = ws.w_size;
       if (!ws.last_singular) {
-        // lambda* = -K^-1 d_W: multipliers of the equality QP on W.
-        for (int i = 0; i < w; ++i) ws.lambda_star[i] = -ws.d_w[i];
-        ldl::solve(ws.ldl_l, ws.ldl_d, w, ws.lambda_star);
-        if (precise) refine_multipliers();
+        // lambda* = -K^-1 d_W: multipliers of the equality QP on W. It lives
+        // in scratch until the step below has used it (add and remove reuse
+        // scratch afterwards).
+        S* lambda_star = ws.scratch;
+        multipliers(lambda_star);
+        if (precise) refine_multipliers(lambda_star);
         int block = -1;
         S best = S(0);
         for (int i = 0; i < w; ++i) {
-          if (is_equality(ws.w_index[i]) || !(ws.lambda_star[i] < -s.dual_tolerance)) {
+          if (is_equality(ws.w_index[i]) || !(lambda_star[i] < -s.dual_tolerance)) {
             continue;
           }
-          const S ratio = ws.lambda[i] / (ws.lambda[i] - ws.lambda_star[i]);
+          const S ratio = ws.lambda[i] / (ws.lambda[i] - lambda_star[i]);
           if (block < 0 || ratio < best ||
               (ratio == best && ws.w_index[i] < ws.w_index[block])) {
             block = i;
@@ -446,7 +473,7 @@ struct ActiveSetSolver {
         if (block < 0) {
           bool moved = false;
           for (int i = 0; i < w; ++i) {
-            const S l = ws.lambda_star[i];
+            const S l = lambda_star[i];
             const S next = (l < S(0) && !is_equality(ws.w_index[i])) ? S(0) : l;
             moved = moved || next != ws.lambda[i];
             ws.lambda[i] = next;
@@ -499,7 +526,7 @@ struct ActiveSetSolver {
             continue;
           }
           for (int i = 0; i < w; ++i) {
-            ws.lambda[i] += best * (ws.lambda_star[i] - ws.lambda[i]);
+            ws.lambda[i] += best * (lambda_star[i] - ws.lambda[i]);
           }
           ws.lambda[block] = S(0);
           remove(block);

@@ -89,6 +89,7 @@ struct SolveRun : ActiveSetSolver<D> {
     for (int i = 0; i < ws.w_size; ++i) {
       ws.d_w[i] = this->signed_rhs(ws.w_index[i], ws.w_side[i]);
     }
+    ws.fwd_valid = 0;
   }
 
   void load_warm(const WorkingSet<D>& warm) {
@@ -144,7 +145,9 @@ struct SolveRun : ActiveSetSolver<D> {
     res.proximal_steps = 0;
     res.certificate_residual = S(0);
     res.certificate_gap = S(0);
-    if (!is_valid(p)) {
+    // A hotstart's H and A are those validated at the factorisation (the
+    // documented precondition), so only its vectors are checked again.
+    if (!(start == Start::kHot ? is_valid_vectors(p) : is_valid(p))) {
       res.status = QpStatus::kInvalidInput;
       return res.status;
     }

@@ -135,7 +135,10 @@ struct QpWorkspace {
   S ldl_l[kLdlz];                   // packed unit-lower L of M_W M_W'     [(N+1)N/2]
   S ldl_d[kAz];                    // D of M_W M_W'                       [N+1]
   S lambda[kAz];                   // dual iterate (u-space, >= 0 for ineq) [N+1]
-  S lambda_star[kAz];              // equality-QP multipliers for W       [N+1]
+  // y = L_K^-1 (-d_W), the forward half of lambda* = -K^-1 d_W (K = L_K D L_K'),
+  // valid for positions < fwd_valid: an add extends it by one entry, a
+  // removal at r invalidates r.., new bounds or a refactorisation all. [N+1]
+  S fwd_d[kAz];
   S d_w[kAz];                      // signed transformed bounds of W      [N+1]
   S scratch[kAz];                  // K row / null vector / update vector [N+1]
   S scratch2[kAz];                  // H x for the objective               [N+1]
@@ -161,6 +164,7 @@ struct QpWorkspace {
   S proximal_weight = S(0);
   int w_size = 0;                 // |W|
   int set_aside = 0;              // constraints set aside in this solve (active_set.hpp)
+  int fwd_valid = 0;              // leading entries of fwd_d that are current
   bool last_singular = false;             // last W row is linearly dependent
   bool factored = false;          // chol/m_rows valid for hotstart
   int factored_n = 0;                 // n the factors were built for
