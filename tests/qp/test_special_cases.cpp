@@ -217,7 +217,7 @@ TEST_CASE("bad inputs are rejected with kInvalidInput") {
   CHECK_FALSE(p.reset(2, 17));
 }
 
-TEST_CASE("a semidefinite H is solved exactly; kNotConvex needs a negative eigenvalue") {
+TEST_CASE("a semidefinite H is solved exactly, kNotConvex needs a negative eigenvalue") {
   auto in = std::make_unique<Instance<D8>>();
   auto& p = in->problem;
   REQUIRE(p.reset(3, 0));

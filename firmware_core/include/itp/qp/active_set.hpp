@@ -496,7 +496,10 @@ struct ActiveSetSolver {
                 continue;
               }
               if (!precise) {
+                // Last resort: refined multipliers and a polished x, and the
+                // set-aside constraints get their chance again with them.
                 precise = true;
+                clear_set_aside();
                 continue;
               }
             }
