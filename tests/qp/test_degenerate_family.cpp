@@ -10,6 +10,7 @@
 #include <random>
 
 #include "degenerate_family.hpp"
+#include "qp_test_util.hpp"
 #include "heap_guard.hpp"
 
 using namespace itp::qp;
@@ -20,18 +21,10 @@ struct Tally {
   int optimal = 0, trouble = 0, other = 0, hot_optimal = 0;
 };
 
-template <class D>
-struct Instance {
-  QpProblem<D> problem;
-  QpWorkspace<D> ws;
-  QpResult<D> result;
-  QpSettings<double> settings;
-};
-
 // Solves one member cold, then hot (same data, the final working set reused);
 // checks each answer against the constructed optimum.
 template <class D>
-void check_member(Instance<D>& in, const qp_test::FamilyOptimum& opt, Tally& tally) {
+void check_member(qp_test::Instance<D>& in, const qp_test::FamilyOptimum& opt, Tally& tally) {
   double xscale = 1.0;
   for (double v : opt.x) xscale = std::max(xscale, std::abs(v));
   auto judge = [&](QpStatus st, const char* how) {
@@ -66,7 +59,7 @@ void check_member(Instance<D>& in, const qp_test::FamilyOptimum& opt, Tally& tal
 
 TEST_CASE("degenerate family: banded 63 x 300, rows scaled 1e-5..1e5 and beyond") {
   using D = QpDims<double, 63, 300, 12, 5>;
-  auto in = std::make_unique<Instance<D>>();
+  auto in = std::make_unique<qp_test::Instance<D>>();
   // Six settings of the family, 30 members each: exact copies and sums of
   // active rows; then nearly dependent rows (sums plus 2^-20..2^-30) and
   // variables scaled by 2^+-4..2^+-10. The previous solver failed on 4 of
@@ -113,7 +106,7 @@ TEST_CASE("degenerate family: banded 63 x 300, rows scaled 1e-5..1e5 and beyond"
 
 TEST_CASE("degenerate family: general variant, dense H, 40 x 120") {
   using D = GeneralQpDims<double, 40, 120>;
-  auto in = std::make_unique<Instance<D>>();
+  auto in = std::make_unique<qp_test::Instance<D>>();
   std::mt19937 rng(1515);
   qp_test::FamilyOptions o;
   o.n = 40;

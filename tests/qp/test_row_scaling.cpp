@@ -20,22 +20,10 @@ namespace {
 
 using D8 = QpDims<double, 8, 16, 8, 7>;
 
-template <class D>
-struct Instance {
-  QpProblem<D> problem;
-  QpWorkspace<D> ws;
-  QpResult<D> result;
-  QpSettings<typename D::Scalar> settings;
-  QpStatus solve() {
-    test_support::HeapGuard guard;
-    return solve_cold(problem, ws, settings, result);
-  }
-};
-
 }  // namespace
 
 TEST_CASE("row scaling: a row of norm 1e200 or 1e-200 is enforced, not ignored") {
-  auto in = std::make_unique<Instance<D8>>();
+  auto in = std::make_unique<qp_test::Instance<D8>>();
   auto& p = in->problem;
   for (const double scale : {1e200, 1e-200, 1e150, 1.0}) {
     CAPTURE(scale);
@@ -54,7 +42,7 @@ TEST_CASE("row scaling: a row of norm 1e200 or 1e-200 is enforced, not ignored")
 }
 
 TEST_CASE("row scaling: rows scaled from 1e-150 to 1e150 give the constructed optimum") {
-  auto in = std::make_unique<Instance<QpDims<double, 20, 30, 4, 2>>>();
+  auto in = std::make_unique<qp_test::Instance<QpDims<double, 20, 30, 4, 2>>>();
   std::mt19937 rng(15);
   qp_test::BuildOptions o;
   o.n = 20;
@@ -81,7 +69,7 @@ TEST_CASE("row scaling: rows scaled from 1e-150 to 1e150 give the constructed op
 }
 
 TEST_CASE("row scaling: an x that overflows is numerical trouble, never optimal") {
-  auto in = std::make_unique<Instance<D8>>();
+  auto in = std::make_unique<qp_test::Instance<D8>>();
   auto& p = in->problem;
   // x_unc = -H^-1 g = -1e300 / 1e-300 overflows to -inf.
   REQUIRE(p.reset(2, 1));

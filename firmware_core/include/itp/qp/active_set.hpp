@@ -346,6 +346,19 @@ struct ActiveSetSolver {
     ws.set_aside = 0;
   }
 
+  // Multiplier (or ray component) y of constraint c in the transformed
+  // problem, stored in the problem's own units: a row scaled by pw has the
+  // multiplier pw y (row_scaling.hpp).
+  void store_multiplier(int c, S y, QpResult<D>& res) const {
+    const S pw = row_power(c);
+    if (pw != S(1)) y *= pw;
+    if (is_bound(c)) {
+      res.y_bounds[c] = y;
+    } else {
+      res.y_rows[c - kN] = y;
+    }
+  }
+
   // The dual ray of a dependent last row (direction `dir`, M_W' dir = 0) in
   // the problem's own units, written to res.y_*, and its independent check.
   bool certify_infeasible(const S* dir, QpResult<D>& res) const {
@@ -358,13 +371,7 @@ struct ActiveSetSolver {
       // An inequality's component is >= -ptol by the ratio test; its rounding
       // residue below zero would point at the other (maybe infinite) side.
       if (!is_equality(c) && static_cast<S>(ws.w_side[i]) * y < S(0)) y = S(0);
-      const S pw = row_power(c);
-      if (pw != S(1)) y *= pw;
-      if (is_bound(c)) {
-        res.y_bounds[c] = y;
-      } else {
-        res.y_rows[c - kN] = y;
-      }
+      store_multiplier(c, y, res);
     }
     const RayCheck<S> check = check_dual_ray(p, res.y_bounds, res.y_rows, s.certificate_radius);
     res.certificate_residual = check.residual;
@@ -438,6 +445,16 @@ struct ActiveSetSolver {
     int last_added = -1;   // constraint added in the previous pass, else -1
     bool precise = false;  // refine lambda* (after the refactorisations failed)
     int& it = res.iterations;
+    // The blocking multiplier reached 0 after a step of length `step`: its
+    // constraint leaves W; a zero-length step counts towards Bland's rule.
+    auto drop = [&](int block, S step) {
+      ws.lambda[block] = S(0);
+      remove(block);
+      ++it;
+      last_added = -1;
+      zero_steps = step > S(0) ? 0 : zero_steps + 1;
+      stalled = step > S(0) ? 0 : stalled + 1;
+    };
     for (int pass = 0; pass < kMaxPasses; ++pass) {
       if (stalled > D::kMaxZeroRun) {
         // Start again from a fresh factor, once per budget.
@@ -531,12 +548,7 @@ struct ActiveSetSolver {
           for (int i = 0; i < w; ++i) {
             ws.lambda[i] += best * (lambda_star[i] - ws.lambda[i]);
           }
-          ws.lambda[block] = S(0);
-          remove(block);
-          ++it;
-          last_added = -1;
-          zero_steps = best > S(0) ? 0 : zero_steps + 1;
-          stalled = best > S(0) ? 0 : stalled + 1;
+          drop(block, best);
         }
       } else {
         // Dependent last row: p with M_W' p = 0, p_last = 1, is a direction of
@@ -589,12 +601,7 @@ struct ActiveSetSolver {
         }
         if (it >= max_iterations) return QpStatus::kIterationLimit;
         for (int i = 0; i < w; ++i) ws.lambda[i] += best * dir[i];
-        ws.lambda[block] = S(0);
-        remove(block);
-        ++it;
-        last_added = -1;
-        zero_steps = best > S(0) ? 0 : zero_steps + 1;
-        stalled = best > S(0) ? 0 : stalled + 1;
+        drop(block, best);
       }
     }
     return QpStatus::kIterationLimit;
@@ -614,16 +621,7 @@ struct ActiveSetSolver {
     const int w = ws.w_size - (ws.last_singular ? 1 : 0);
     for (int i = 0; i < w; ++i) {
       const int c = ws.w_index[i];
-      if (!ray) {
-        S y = static_cast<S>(ws.w_side[i]) * ws.lambda[i];
-        const S pw = row_power(c);
-        if (pw != S(1)) y *= pw;
-        if (is_bound(c)) {
-          res.y_bounds[c] = y;
-        } else {
-          res.y_rows[c - kN] = y;
-        }
-      }
+      if (!ray) store_multiplier(c, static_cast<S>(ws.w_side[i]) * ws.lambda[i], res);
       (void)res.working_set.push(is_bound(c) ? c : c - kN, is_bound(c), ws.w_side[i]);
     }
     band::multiply(p.h_band, p.n, ws.x, ws.scratch2);
