@@ -6,6 +6,8 @@
 #include <fstream>
 #include <istream>
 #include <limits>
+#include <new>
+#include <stdexcept>
 #include <ostream>
 #include <sstream>
 
@@ -50,19 +52,26 @@ bool parse_number(const std::string& tok, double& v) {
   return end != nullptr && *end == '\0' && !tok.empty() && !std::isnan(v);
 }
 
+// Appends `count` numbers to `out`, which grows only with the numbers
+// actually read: a header that claims more than the file holds costs no
+// more memory than the file itself (issue 13, defect 5).
 bool read_numbers(Tokens& t, const char* section, std::size_t count, std::vector<double>& out,
                   std::string& error) {
-  out.resize(count);
+  out.clear();
+  constexpr std::size_t kFirstChunk = 1024;
+  out.reserve(count < kFirstChunk ? count : kFirstChunk);
   for (std::size_t i = 0; i < count; ++i) {
     std::string tok;
     if (!t.next(tok)) {
       error = fmt::format("section {}: expected {} numbers, file ended after {}", section, count, i);
       return false;
     }
-    if (!parse_number(tok, out[i])) {
+    double v = 0.0;
+    if (!parse_number(tok, v)) {
       error = fmt::format("section {}: '{}' is not a number", section, tok);
       return false;
     }
+    out.push_back(v);
   }
   return true;
 }
@@ -83,7 +92,9 @@ void write_matrix(std::ostream& out, const char* name, const std::vector<double>
 
 }  // namespace
 
-bool read_qp_text(std::istream& in, QpText& qp, std::string& error) {
+namespace {
+
+bool read_qp_text_unguarded(std::istream& in, QpText& qp, std::string& error) {
   Tokens t(in);
   std::string tok;
   if (!t.next(tok) || tok != "qp-text/1") {
@@ -95,8 +106,14 @@ bool read_qp_text(std::istream& in, QpText& qp, std::string& error) {
   std::string sn, sm;
   if (!t.next(kn) || kn != "n" || !t.next(sn) || !parse_number(sn, dn) || !t.next(km) ||
       km != "m" || !t.next(sm) || !parse_number(sm, dm) || dn < 1 || dm < 0 ||
-      dn != std::floor(dn) || dm != std::floor(dm) || dn > 1e6 || dm > 1e7) {
+      dn != std::floor(dn) || dm != std::floor(dm)) {
     error = "header: expected 'n <int >= 1> m <int >= 0>'";
+    return false;
+  }
+  // Bounded before anything is allocated (the dense format holds n(n + m) + 2(n + m) numbers).
+  if (dn > kMaxTextVariables || dm > kMaxTextRows || dn * (dn + dm) > static_cast<double>(kMaxTextEntries)) {
+    error = fmt::format("header: n {} m {} beyond the reader's limits (n <= {}, m <= {}, n (n + m) <= {})", dn, dm,
+                        kMaxTextVariables, kMaxTextRows, kMaxTextEntries);
     return false;
   }
   qp = QpText{};
@@ -139,6 +156,21 @@ bool read_qp_text(std::istream& in, QpText& qp, std::string& error) {
     }
   }
   return true;
+}
+
+}  // namespace
+
+bool read_qp_text(std::istream& in, QpText& qp, std::string& error) {
+  // Errors are values: not even an exhausted heap escapes as an exception.
+  try {
+    return read_qp_text_unguarded(in, qp, error);
+  } catch (const std::bad_alloc&) {
+    error = "out of memory while reading";
+  } catch (const std::length_error&) {
+    error = "a section is too long";
+  }
+  qp = QpText{};
+  return false;
 }
 
 bool read_qp_text_file(const std::string& path, QpText& qp, std::string& error) {

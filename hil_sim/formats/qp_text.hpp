@@ -28,7 +28,16 @@ struct QpText {
   std::optional<double> obj_ref;             // optional reference objective
 };
 
+// The reader's limits, checked on the header before anything is allocated:
+// a file beyond them is refused with a message (a qp-text/1 file at the
+// limit holds 2^25 numbers, about 0.5 GB of text).
+inline constexpr int kMaxTextVariables = 4096;
+inline constexpr int kMaxTextRows = 65536;
+inline constexpr long long kMaxTextEntries = 1LL << 25;  // n (n + m)
+
 // Parses qp-text/1. On failure returns false and says why (with the section).
+// Memory grows with the numbers actually read, never with what the header
+// claims; no exception escapes (an exhausted heap is an error message).
 bool read_qp_text(std::istream& in, QpText& qp, std::string& error);
 bool read_qp_text_file(const std::string& path, QpText& qp, std::string& error);
 // Writes qp-text/1 with round-trip precision (%.17g), `inf` / `-inf`.

@@ -10,6 +10,7 @@
 
 #include <doctest/doctest.h>
 
+#include "heap_guard.hpp"
 #include "itp/qp/qp.hpp"
 
 namespace qp_test {
@@ -20,6 +21,20 @@ void finish_gradient(itp::qp::QpProblem<D>& p, const Constructed& c);
 
 template <typename S>
 constexpr S inf() { return std::numeric_limits<S>::infinity(); }
+
+// One QP with its workspace, result and settings (large: allocate with
+// std::make_unique); solve() is a cold solve that must not touch the heap.
+template <class D>
+struct Instance {
+  itp::qp::QpProblem<D> problem;
+  itp::qp::QpWorkspace<D> ws;
+  itp::qp::QpResult<D> result;
+  itp::qp::QpSettings<typename D::Scalar> settings;
+  itp::qp::QpStatus solve() {
+    test_support::HeapGuard guard;
+    return itp::qp::solve_cold(problem, ws, settings, result);
+  }
+};
 
 struct BuildOptions {
   int n = 10;
@@ -189,6 +204,52 @@ void finish_gradient(itp::qp::QpProblem<D>& p, const Constructed& c) {
     }
   }
   for (int i = 0; i < n; ++i) p.g[i] = static_cast<S>(-grad[static_cast<std::size_t>(i)]);
+}
+
+// Rows 0..k-1 of an infeasible system (Farkas: y >= 0 with sum y_i a_i = 0 and
+// sum y_i b_i < 0 makes {a_i'x <= b_i} empty), rows k..k+2 harmless boxes,
+// and a random positive definite H and g; n variables, k + 3 rows.
+// flip_first: row 0 written as the lower side of -a_0.
+template <class D>
+void build_farkas(itp::qp::QpProblem<D>& p, int n, int k, bool flip_first, std::mt19937& rng) {
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  REQUIRE(p.reset(n, k + 3));
+  for (int i = 0; i < n; ++i) {
+    p.set_hessian(i, i, 1.0 + uni(rng));
+    if (i > 0) p.set_hessian(i, i - 1, 0.3 * gauss(rng));
+    p.g[i] = gauss(rng);
+  }
+  std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
+  double yb = 0.0;
+  const double y_last = 0.5 + uni(rng);
+  for (int r = 0; r < k - 1; ++r) {
+    const double y = 0.5 + uni(rng);
+    for (int j = 0; j < n; ++j) {
+      const double a = gauss(rng);
+      p.push_row_entry(r, j, a);
+      sum[static_cast<std::size_t>(j)] += y * a;
+    }
+    const double b = gauss(rng);
+    // alternate the representation: upper side, or the lower side of -a.
+    p.uba[r] = b;
+    yb += y * b;
+  }
+  for (int j = 0; j < n; ++j) p.push_row_entry(k - 1, j, -sum[static_cast<std::size_t>(j)] / y_last);
+  // need y_last * b_last < -yb  ->  b_last = (-yb - margin) / y_last
+  p.uba[k - 1] = (-yb - 0.5 - uni(rng)) / y_last;
+  if (flip_first) {  // row 0 as a lower-side constraint on -a
+    for (int q = 0; q < p.a_nnz[0]; ++q) p.a_val[0][q] = -p.a_val[0][q];
+    p.lba[0] = -p.uba[0];
+    p.uba[0] = qp_test::inf<double>();
+  }
+  // Three harmless box rows after the infeasible ones (size_t indices keep
+  // GCC 12's -Warray-bounds from a false positive at -O3).
+  for (std::size_t r = static_cast<std::size_t>(k); r < static_cast<std::size_t>(k) + 3; ++r) {
+    p.push_row_entry(static_cast<int>(r), static_cast<int>(r) % n, 1.0);
+    p.lba[r] = -100.0;
+    p.uba[r] = 100.0;
+  }
 }
 
 template <class D>

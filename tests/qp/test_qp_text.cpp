@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "formats/qp_text.hpp"
+#include "heap_guard.hpp"
 #include "planner_qps.hpp"
 
 using namespace itp::qp;
@@ -69,4 +70,37 @@ TEST_CASE("qp-text/1: errors are reported, not guessed around") {
   qp.H[3] = 0.25;
   CHECK_FALSE(hil::formats::to_problem(qp, *p, error));
   CHECK(error.find("symmetric") != std::string::npos);
+}
+
+TEST_CASE("qp-text/1: the header cannot make the reader allocate (issue 13, defect 5)") {
+  QpText qp;
+  std::string error;
+  auto parse = [&](const std::string& s) {
+    std::stringstream ss(s);
+    return hil::formats::read_qp_text(ss, qp, error);
+  };
+  for (const std::string tiny : {"qp-text/1\nn 20000 m 0\nH\n0\n", "qp-text/1\nn 9999 m 99999\nH"}) {
+    // Files of 26 bytes that made the old reader ask for 3.2 GB and 0.8 GB
+    // (aborting qp_solve with std::bad_alloc where that failed): refused on
+    // the header, nothing allocated for data.
+    CAPTURE(tiny);
+    REQUIRE(tiny.size() == 26);
+    test_support::HeapGuard guard(test_support::HeapGuard::Mode::kObserveOnly);
+    CHECK_FALSE(parse(tiny));
+    CHECK(guard.bytes() < 64 * 1024);
+    CHECK(error.find("limits") != std::string::npos);
+  }
+  {
+    // Within the limits, but the file ends early: memory follows the data
+    // actually read (the old reader allocated n(n + m) doubles, 2 GB here).
+    test_support::HeapGuard guard(test_support::HeapGuard::Mode::kObserveOnly);
+    CHECK_FALSE(parse("qp-text/1\nn 4096 m 4096\nH\n1 0 0\n"));
+    CHECK(guard.bytes() < 1024 * 1024);
+  }
+  CHECK(error.find("file ended") != std::string::npos);
+  CHECK_FALSE(parse("qp-text/1\nn 4097 m 0\n"));
+  CHECK_FALSE(parse("qp-text/1\nn 1 m 70000\n"));
+  CHECK_FALSE(parse("qp-text/1\nn 1e300 m 0\n"));
+  CHECK_FALSE(parse("qp-text/1\nn -1 m 0\n"));
+  CHECK_FALSE(parse("qp-text/1\nn 2.5 m 0\n"));
 }

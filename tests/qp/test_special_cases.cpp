@@ -18,18 +18,6 @@ using D8 = QpDims<double, 8, 16, 8, 7>;
 using D40 = QpDims<double, 40, 80, 6, 4>;
 
 template <class D>
-struct Instance {
-  QpProblem<D> problem;
-  QpWorkspace<D> ws;
-  QpResult<D> result;
-  QpSettings<typename D::Scalar> settings;
-  QpStatus solve() {
-    test_support::HeapGuard guard;
-    return solve_cold(problem, ws, settings, result);
-  }
-};
-
-template <class D>
 void identity_hessian(QpProblem<D>& p) {
   for (int i = 0; i < p.n; ++i) p.set_hessian(i, i, 1.0);
 }
@@ -37,7 +25,7 @@ void identity_hessian(QpProblem<D>& p) {
 }  // namespace
 
 TEST_CASE("infeasible: contradictory rows and bounds are detected") {
-  auto in = std::make_unique<Instance<D8>>();
+  auto in = std::make_unique<qp_test::Instance<D8>>();
   auto& p = in->problem;
   SUBCASE("a'x >= 1 and a'x <= 0") {
     REQUIRE(p.reset(3, 2));
@@ -81,57 +69,19 @@ TEST_CASE("infeasible: contradictory rows and bounds are detected") {
 TEST_CASE("infeasible: random Farkas certificates") {
   // Rows a_1..a_k with y >= 0, sum y_i a_i = 0 and sum y_i b_i < 0 make
   // {a_i'x <= b_i} empty. The other rows are random and harmless.
-  auto in = std::make_unique<Instance<D8>>();
+  auto in = std::make_unique<qp_test::Instance<D8>>();
   std::mt19937 rng(77);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
   for (int rep = 0; rep < 30; ++rep) {
     const int n = 2 + rep % 7;
     const int k = 2 + rep % 4;
-    auto& p = in->problem;
-    REQUIRE(p.reset(n, k + 3));
-    for (int i = 0; i < n; ++i) {
-      p.set_hessian(i, i, 1.0 + uni(rng));
-      if (i > 0) p.set_hessian(i, i - 1, 0.3 * gauss(rng));
-      p.g[i] = gauss(rng);
-    }
-    std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
-    double yb = 0.0;
-    const double y_last = 0.5 + uni(rng);
-    for (int r = 0; r < k - 1; ++r) {
-      const double y = 0.5 + uni(rng);
-      for (int j = 0; j < n; ++j) {
-        const double a = gauss(rng);
-        p.push_row_entry(r, j, a);
-        sum[static_cast<std::size_t>(j)] += y * a;
-      }
-      const double b = gauss(rng);
-      // alternate the representation: upper side, or the lower side of -a.
-      p.uba[r] = b;
-      yb += y * b;
-    }
-    for (int j = 0; j < n; ++j) p.push_row_entry(k - 1, j, -sum[static_cast<std::size_t>(j)] / y_last);
-    // need y_last * b_last < -yb  ->  b_last = (-yb - margin) / y_last
-    p.uba[k - 1] = (-yb - 0.5 - uni(rng)) / y_last;
-    if (rep % 2 == 1) {  // flip row 0 to a lower-side constraint on -a
-      for (int q = 0; q < p.a_nnz[0]; ++q) p.a_val[0][q] = -p.a_val[0][q];
-      p.lba[0] = -p.uba[0];
-      p.uba[0] = qp_test::inf<double>();
-    }
-    // Three harmless box rows after the infeasible ones (size_t indices keep
-    // GCC 12's -Warray-bounds from a false positive at -O3).
-    for (std::size_t r = static_cast<std::size_t>(k); r < static_cast<std::size_t>(k) + 3; ++r) {
-      p.push_row_entry(static_cast<int>(r), static_cast<int>(r) % n, 1.0);
-      p.lba[r] = -100.0;
-      p.uba[r] = 100.0;
-    }
+    qp_test::build_farkas(in->problem, n, k, rep % 2 == 1, rng);
     CAPTURE(rep);
     CHECK(in->solve() == QpStatus::kInfeasible);
   }
 }
 
 TEST_CASE("equality-constrained QPs match a dense KKT solve") {
-  auto in = std::make_unique<Instance<D40>>();
+  auto in = std::make_unique<qp_test::Instance<D40>>();
   std::mt19937 rng(4242);
   std::normal_distribution<double> gauss(0.0, 1.0);
   for (int rep = 0; rep < 12; ++rep) {
@@ -183,7 +133,7 @@ TEST_CASE("equality-constrained QPs match a dense KKT solve") {
 }
 
 TEST_CASE("bad inputs are rejected with kInvalidInput") {
-  auto in = std::make_unique<Instance<D8>>();
+  auto in = std::make_unique<qp_test::Instance<D8>>();
   auto& p = in->problem;
   auto base = [&]() {
     REQUIRE(p.reset(3, 2));
@@ -217,11 +167,13 @@ TEST_CASE("bad inputs are rejected with kInvalidInput") {
   CHECK_FALSE(p.reset(2, 17));
 }
 
-TEST_CASE("non-convex H is reported as kNotConvex; regularisation is opt-in") {
-  auto in = std::make_unique<Instance<D8>>();
+TEST_CASE("a semidefinite H is solved exactly, kNotConvex needs a negative eigenvalue") {
+  auto in = std::make_unique<qp_test::Instance<D8>>();
   auto& p = in->problem;
   REQUIRE(p.reset(3, 0));
-  // H = [[1,1,0],[1,1,0],[0,0,1]] is semidefinite
+  // H = [[1,1,0],[1,1,0],[0,0,1]] is semidefinite (null vector (1,-1,0)).
+  // min 1/2 (x0 + x1)^2 + 1/2 x2^2 + x0 on |x0|, |x1| <= 1: the objective is
+  // >= x0 >= -1, reached only at x = (-1, 1, 0) (x0 + x1 = 0), so -1 there.
   p.set_hessian(0, 0, 1.0);
   p.set_hessian(1, 0, 1.0);
   p.set_hessian(1, 1, 1.0);
@@ -229,19 +181,62 @@ TEST_CASE("non-convex H is reported as kNotConvex; regularisation is opt-in") {
   p.lb[0] = p.lb[1] = -1.0;
   p.ub[0] = p.ub[1] = 1.0;
   p.g[0] = 1.0;
-  CHECK(in->solve() == QpStatus::kNotConvex);
-  in->settings.regularisation = 1e-8;
-  CHECK(in->solve() == QpStatus::kOptimal);
-  in->settings.regularisation = 0.0;
-  p.set_hessian(1, 1, -2.0);  // indefinite
+  REQUIRE(in->solve() == QpStatus::kOptimal);
+  CHECK(in->result.proximal_steps > 0);
+  CHECK(in->result.x[0] == doctest::Approx(-1.0).epsilon(1e-12));
+  CHECK(in->result.x[1] == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(std::abs(in->result.x[2]) < 1e-9);
+  CHECK(in->result.objective == doctest::Approx(-1.0).epsilon(1e-12));
+  CHECK(kkt_residual(p, in->result).max() < 1e-8);
+  // A user-chosen proximal weight gives the same optimum, not a perturbed one.
+  in->settings.proximal_weight = 1e-2;
+  REQUIRE(in->solve() == QpStatus::kOptimal);
+  CHECK(in->result.x[1] == doctest::Approx(1.0).epsilon(1e-9));
+  in->settings.proximal_weight = 0.0;
+  p.set_hessian(1, 1, -2.0);  // indefinite: v = (1, -1, 0) gives v'Hv = -1
   CHECK(in->solve() == QpStatus::kNotConvex);
   // hotstart is refused after a failed factorisation
   QpResult<D8> r;
   CHECK(solve_hot(p, in->ws, in->settings, r) == QpStatus::kNotFactored);
+  // A negative eigenvalue below the proximal weight is still found (the
+  // shifted factor fails too, and its witness is checked against H itself).
+  p.set_hessian(1, 1, 1.0 - 1e-9);  // eigenvalues of the block: ~2, ~-5e-10
+  CHECK(in->solve() == QpStatus::kNotConvex);
+  // H = diag(0, -1e-9): the first pivot fails only by being zero, H + eps I is
+  // positive definite, and the proximal steps find d'Hd < 0 along x1.
+  REQUIRE(p.reset(2, 0));
+  p.set_hessian(1, 1, -1e-9);
+  p.g[0] = 1.0;
+  p.g[1] = 1e-3;
+  p.lb[0] = p.lb[1] = -1.0;
+  p.ub[0] = p.ub[1] = 1.0;
+  CHECK(in->solve() == QpStatus::kNotConvex);
+}
+
+TEST_CASE("a convex QP unbounded below is kUnbounded, a bounded LP is solved") {
+  auto in = std::make_unique<qp_test::Instance<D8>>();
+  auto& p = in->problem;
+  // min 1/2 x0^2 - x1 s.t. x0 + x1 <= 1, x1 >= -5: x1 = 1 - x0 -> 1/2 x0^2 + x0 - 1,
+  // optimum x0 = -1, x1 = 2, objective -1.5 (x1 only has a linear cost).
+  REQUIRE(p.reset(2, 1));
+  p.set_hessian(0, 0, 1.0);
+  p.g[1] = -1.0;
+  p.push_row_entry(0, 0, 1.0);
+  p.push_row_entry(0, 1, 1.0);
+  p.uba[0] = 1.0;
+  p.lb[1] = -5.0;
+  REQUIRE(in->solve() == QpStatus::kOptimal);
+  CHECK(in->result.x[0] == doctest::Approx(-1.0).epsilon(1e-9));
+  CHECK(in->result.x[1] == doctest::Approx(2.0).epsilon(1e-9));
+  CHECK(in->result.objective == doctest::Approx(-1.5).epsilon(1e-9));
+  // Without the row, x1 runs to +inf: unbounded, never "optimal" or a limit.
+  p.m = 0;
+  CHECK(in->solve() == QpStatus::kUnbounded);
+  CHECK_FALSE(in->result.usable());
 }
 
 TEST_CASE("the iteration limit is honoured and flags the iterate unusable") {
-  auto in = std::make_unique<Instance<D40>>();
+  auto in = std::make_unique<qp_test::Instance<D40>>();
   std::mt19937 rng(8);
   qp_test::BuildOptions o;
   o.n = 40;

@@ -18,10 +18,14 @@ class HeapGuard {
 
   // Allocations seen since this guard was created.
   std::size_t allocations() const;
+  // Bytes requested by them (a reader that allocates what a header claims
+  // shows up here even when the memory is never touched).
+  std::size_t bytes() const;
 
  private:
   Mode mode_;
   std::size_t start_;
+  std::size_t start_bytes_;
 };
 
 }  // namespace test_support

@@ -158,10 +158,11 @@ void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& de
   if (observer_ != nullptr && observer_->path != nullptr) {
     observer_->path(observer_->context, qp_.problem());
   }
-  // A path QP that failed (infeasible, or at the iteration cap) still leaves a
-  // valid factor of H, and its working set is where the corridor pinches: the
-  // next solve, usually the same corridor at the steering limit, hotstarts
-  // from it instead of cold (e.g. 2 or 17-30 iterations where cold hit the cap of 60).
+  // A path QP that failed (infeasible, at the iteration cap, or in numerical
+  // trouble) still leaves a valid factor of H, and its working set is where
+  // the corridor pinches: the next solve, usually the same corridor at the
+  // steering limit, hotstarts from it instead of cold (e.g. 2 or 17-30
+  // iterations where cold hit the cap of 60).
   const qp::QpStatus st = qp_.solve(key, /*keep_factor_after_failure=*/true);
   out.status = st;
   out.iterations = qp_.result().iterations;

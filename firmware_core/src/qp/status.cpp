@@ -10,6 +10,8 @@ const char* to_string(QpStatus status) {
     case QpStatus::kInvalidInput: return "invalid_input";
     case QpStatus::kNotConvex: return "not_convex";
     case QpStatus::kNotFactored: return "not_factored";
+    case QpStatus::kNumericalTrouble: return "numerical_trouble";
+    case QpStatus::kUnbounded: return "unbounded";
   }
   return "unknown";
 }

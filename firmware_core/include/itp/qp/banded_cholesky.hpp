@@ -15,11 +15,14 @@
 namespace itp::qp::band {
 
 // Factorises the n x n band matrix h (lower band, half-bandwidth Bw) into l.
-// A diagonal shift `reg` >= 0 is added to H first (documented regularisation;
-// 0 by default). Returns false if a pivot is not safely positive, i.e. H + reg I
-// is not positive definite to working precision.
+// A diagonal shift `reg` >= 0 is added to H first (the proximal weight of a
+// semidefinite H, hessian_factor.hpp; 0 otherwise). Returns -1 on success, or
+// the row i whose pivot is not safely positive (H + reg I is not positive
+// definite to working precision). Then rows 0..i-1 of l hold the factor of the
+// leading i x i block and row i its off-diagonal part L(i, 0..i-1), from which
+// hessian_factor.hpp builds a test direction.
 template <typename S, std::size_t W>
-bool cholesky(const S (*h)[W], S (*l)[W], int n, S reg) {
+int cholesky_failing_row(const S (*h)[W], S (*l)[W], int n, S reg) {
   constexpr int Bw = static_cast<int>(W) - 1;
   // A pivot below (Bw + 8) eps |H(i,i) + reg| is rounding noise of a zero
   // pivot: H is singular to working precision (semidefinite -> kNotConvex).
@@ -30,14 +33,19 @@ bool cholesky(const S (*h)[W], S (*l)[W], int n, S reg) {
       S s = h[i][i - j] + (i == j ? reg : S(0));
       for (int k = j0; k < j; ++k) s -= l[i][i - k] * l[j][j - k];
       if (i == j) {
-        if (!(s > rel * std::abs(h[i][0] + reg))) return false;  // also catches NaN
+        if (!(s > rel * std::abs(h[i][0] + reg))) return i;  // also catches NaN
         l[i][0] = S(1) / std::sqrt(s);
       } else {
         l[i][i - j] = s * l[j][0];
       }
     }
   }
-  return true;
+  return -1;
+}
+
+template <typename S, std::size_t W>
+bool cholesky(const S (*h)[W], S (*l)[W], int n, S reg) {
+  return cholesky_failing_row(h, l, n, reg) < 0;
 }
 
 // Solves L y = b in place (y overwrites b). Entries b[0..start-1] must be zero

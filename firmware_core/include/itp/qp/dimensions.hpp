@@ -32,8 +32,15 @@ struct QpDims {
   static constexpr int kMaxIterations = 3 * (N + M);
   // Consecutive zero-length dual steps tolerated before Bland's rule is used.
   static constexpr int kMaxZeroSteps = N + 2;
-  // From-scratch refactorisations of the working-set factor per solve.
+  // From-scratch refactorisations of the working-set factor per solve (an
+  // inaccurate optimum, a dual ray that fails its check, cycling).
   static constexpr int kMaxRefactorisations = 2;
+  // Consecutive zero-length steps after which even Bland's rule is taken to
+  // cycle through rounding: refactorise, then kNumericalTrouble.
+  static constexpr int kMaxZeroRun = 4 * (N + 2);
+  // Outer proximal-point iterations for a singular H (each one a hotstarted
+  // inner solve; all inner iterations count against kMaxIterations).
+  static constexpr int kMaxProximalSteps = 2 * (N + M) + 100;
 
   static_assert(N >= 1 && M >= 0 && NnzRow >= 1 && Bw >= 0, "bad QP capacities");
   static_assert(N + M < 32767, "constraint indices are stored as int16");
@@ -56,6 +63,14 @@ inline constexpr int kSpeedQpBandwidth = 5;
 // sample i-1..i+1 -> half-bandwidth 4; bounds plus monotone-time rows.
 inline constexpr int kCoarseQpRowNonzeros = 2;
 inline constexpr int kCoarseQpBandwidth = 4;
+
+// General structure (issue 15): dense H (half-bandwidth N - 1) and rows with
+// up to N nonzeros, i.e. any sparsity, for n <= 160 and m <= 1200. The same
+// solver, instantiated on these capacities; the planner never links it (host
+// tools only: qp_solve picks it for files that do not fit a banded shape).
+// Memory (double): problem 2.1 MB, workspace 0.4 MB, result 12 KB.
+template <typename S, int N = 160, int M = 1200>
+using GeneralQpDims = QpDims<S, N, M, N, N - 1>;
 
 template <typename S, class Cfg = DefaultConfig>
 using PathQpDims =

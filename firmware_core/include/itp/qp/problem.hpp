@@ -108,28 +108,45 @@ struct QpProblem {
   }
 };
 
+// The vector data a hotstart may change: g finite; bounds not NaN, lb <= ub,
+// lbA <= ubA, no lower bound of +inf and no upper bound of -inf.
+template <class D>
+bool is_valid_vectors(const QpProblem<D>& p) {
+  using S = typename D::Scalar;
+  if (p.n < 1 || p.n > D::kMaxVariables || p.m < 0 || p.m > D::kMaxRows) return false;
+  const S inf = std::numeric_limits<S>::infinity();
+  // Branch-light (this runs on every solve, hotstarts included): a value v is
+  // finite iff v * 0 == 0, so one NaN-propagating sum checks all of g, and
+  // !(lo <= hi) also catches a NaN bound.
+  bool ok = true;
+  S zero_sum = S(0);
+  for (int i = 0; i < p.n; ++i) {
+    const S lo = p.lb[i], hi = p.ub[i];
+    zero_sum += p.g[i] * S(0);
+    ok = ok & (lo <= hi) & (lo != inf) & (hi != -inf);
+  }
+  for (int r = 0; r < p.m; ++r) {
+    const S lo = p.lba[r], hi = p.uba[r];
+    ok = ok & (lo <= hi) & (lo != inf) & (hi != -inf);
+  }
+  return ok && zero_sum == S(0);
+}
+
 // kInvalidInput conditions: sizes beyond capacity, NaN/Inf in H, g or A, NaN
 // bounds, lb > ub, lbA > ubA, a lower bound of +inf or an upper bound of -inf,
 // bad column indices (out of range or not strictly increasing).
 template <class D>
 bool is_valid(const QpProblem<D>& p) {
   using S = typename D::Scalar;
-  if (p.n < 1 || p.n > D::kMaxVariables || p.m < 0 || p.m > D::kMaxRows) return false;
-  const S inf = std::numeric_limits<S>::infinity();
+  if (!is_valid_vectors(p)) return false;
   for (int i = 0; i < p.n; ++i) {
     for (int k = 0; k <= D::kBandwidth && k <= i; ++k) {
       if (!std::isfinite(p.h_band[i][k])) return false;
     }
-    if (!std::isfinite(p.g[i])) return false;
-    if (std::isnan(p.lb[i]) || std::isnan(p.ub[i]) || p.lb[i] > p.ub[i] ||
-        p.lb[i] == inf || p.ub[i] == -inf) {
-      return false;
-    }
   }
-  // Rows: branch-light (this runs on every solve over all m rows). Columns
-  // must satisfy prev < c < n with prev = -1 before the first; a value v is
-  // finite iff v * 0 == 0 (inf * 0 and NaN * 0 are NaN), so one NaN-propagating
-  // sum of v * 0 checks a whole row.
+  // Rows: columns must satisfy prev < c < n with prev = -1 before the first;
+  // a value v is finite iff v * 0 == 0 (inf * 0 and NaN * 0 are NaN), so one
+  // NaN-propagating sum of v * 0 checks a whole row.
   bool ok = true;
   S zero_sum = S(0);
   for (int r = 0; r < p.m; ++r) {
@@ -142,9 +159,6 @@ bool is_valid(const QpProblem<D>& p) {
       prev = c;
       zero_sum += p.a_val[r][k] * S(0);
     }
-    const S lo = p.lba[r], hi = p.uba[r];
-    // !(lo <= hi) also catches a NaN bound
-    ok = ok & (lo <= hi) & (lo != inf) & (hi != -inf);
   }
   return ok && zero_sum == S(0);
 }

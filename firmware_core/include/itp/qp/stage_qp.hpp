@@ -27,9 +27,10 @@ class StageQp {
   const QpResult<Dims>& result() const { return result_; }
 
   // Solves the problem built for `key`: hot from the held factor when the
-  // matrices are the same, else cold. After a solve that ended infeasible or
-  // at the iteration cap the factor of H is still valid, and with
-  // `keep_factor_after_failure` the next solve hotstarts from its working set.
+  // matrices are the same, else cold. After a solve that ended infeasible, at
+  // the iteration cap or in numerical trouble the factor of H is still
+  // valid, and with `keep_factor_after_failure` the next solve hotstarts from
+  // its working set.
   QpStatus solve(const Key& key, bool keep_factor_after_failure = false) {
     QpStatus st = QpStatus::kNotFactored;
     if (same_matrices(key) && have_factor_) {
@@ -38,8 +39,9 @@ class StageQp {
     if (st == QpStatus::kNotFactored) {
       st = solve_cold(problem_, workspace_, settings_, result_);
     }
-    have_factor_ = is_usable(st) || (keep_factor_after_failure && (st == QpStatus::kInfeasible ||
-                                                                   st == QpStatus::kIterationLimit));
+    have_factor_ = is_usable(st) ||
+                   (keep_factor_after_failure && (st == QpStatus::kInfeasible || st == QpStatus::kIterationLimit ||
+                                                  st == QpStatus::kNumericalTrouble));
     key_ = key;
     built_ = true;
     return st;

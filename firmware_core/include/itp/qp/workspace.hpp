@@ -10,12 +10,13 @@
 
 namespace itp::qp {
 
-// Tolerances default per scalar type (docs/qp.md, "Tolerances").
+// Tolerances default per scalar type (docs/qp.md, "Tolerances"). Every field
+// is a documented option of `qp_solve` (--primal-tolerance, ...).
 template <typename S>
 struct QpSettings {
   static constexpr bool kDouble = std::is_same_v<S, double>;
   // Max violation of a constraint, measured on the row scaled to unit 2-norm,
-  // that still counts as satisfied.
+  // that still counts as satisfied (also the final feasibility check of x).
   S primal_tolerance = kDouble ? S(1e-9) : S(2e-4);
   // Multipliers above -dual_tolerance count as non-negative (then clamped to 0).
   S dual_tolerance = kDouble ? S(1e-12) : S(1e-6);
@@ -25,11 +26,21 @@ struct QpSettings {
   // Residual |m_i'u - d_i| / (1 + |d_i|) on active rows above which the
   // working-set factor is recomputed from scratch (bounded per solve).
   S refactor_tolerance = kDouble ? S(1e-8) : S(1e-3);
-  // Added to the diagonal of H before factorising (0: none). A semidefinite H
-  // is reported as kNotConvex unless this is set.
-  S regularisation = S(0);
+  // Weight eps of the proximal term eps/2 |x - x_k|^2 used when H is singular
+  // (positive semidefinite); 0: automatic (hessian_factor.hpp). Never used for
+  // a positive definite H. The result is the optimum of the original QP.
+  S proximal_weight = S(0);
+  // Proximal iterations stop at a fixed point: eps |x_k+1 - x_k|_inf (the
+  // stationarity residual of the original QP) <= this * (1 + |g|_inf + |Hx|_inf).
+  S stationarity_tolerance = kDouble ? S(1e-10) : S(1e-5);
+  // A dual ray y is reported as kInfeasible only if it proves that no x with
+  // |x_j| <= certificate_radius * (1 + scale of the data) (boxed variables:
+  // their box) is feasible (certificates.hpp); otherwise kNumericalTrouble.
+  S certificate_radius = kDouble ? S(1e5) : S(1e2);
   // Run-time iteration cap, clamped to D::kMaxIterations (<= 0: use that).
   int max_iterations = 0;
+  // Run-time cap of proximal iterations, clamped to D::kMaxProximalSteps.
+  int max_proximal_steps = 0;
 };
 
 // One working-set entry: a simple bound on x[index] or row `index` of A,
@@ -64,8 +75,14 @@ struct QpResult {
   QpStatus status = QpStatus::kInvalidInput;
   int iterations = 0;             // working-set changes (adds + removes)
   int refactorisations = 0;       // from-scratch recomputations of the factor
+  int proximal_steps = 0;         // outer proximal iterations (0: H positive definite)
   S objective = S(0);             // 1/2 x'Hx + g'x at x
+  // kInfeasible: the dual ray's check (certificates.hpp): |A'y_rows + y_bounds|_inf
+  // and the gap -(support of y) after normalising max |y_c| |a_c| to 1.
+  S certificate_residual = S(0);
+  S certificate_gap = S(0);
   S x[static_cast<std::size_t>(D::kMaxVariables)];          // primal solution          [N]
+  // Multipliers; for kInfeasible the dual ray instead (same sign convention).
   S y_bounds[static_cast<std::size_t>(D::kMaxVariables)];   // bound multipliers        [N]
   S y_rows[static_cast<std::size_t>(D::kMaxRows > 0 ? D::kMaxRows : 1)];  // row multipliers [M]
   WorkingSet<D> working_set;      // final active set (warm start input) [N+1]
@@ -118,7 +135,10 @@ struct QpWorkspace {
   S ldl_l[kLdlz];                   // packed unit-lower L of M_W M_W'     [(N+1)N/2]
   S ldl_d[kAz];                    // D of M_W M_W'                       [N+1]
   S lambda[kAz];                   // dual iterate (u-space, >= 0 for ineq) [N+1]
-  S lambda_star[kAz];              // equality-QP multipliers for W       [N+1]
+  // y = L_K^-1 (-d_W), the forward half of lambda* = -K^-1 d_W (K = L_K D L_K'),
+  // valid for positions < fwd_valid: an add extends it by one entry, a
+  // removal at r invalidates r.., new bounds or a refactorisation all. [N+1]
+  S fwd_d[kAz];
   S d_w[kAz];                      // signed transformed bounds of W      [N+1]
   S scratch[kAz];                  // K row / null vector / update vector [N+1]
   S scratch2[kAz];                  // H x for the objective               [N+1]
@@ -139,7 +159,12 @@ struct QpWorkspace {
   BlockIndex row_end_block[kMz];
   S path_len[kScanBlocksz];
   S path_prefix[kScanBlocksz + 1];
+  // Weight eps of the proximal term (0: H positive definite, no proximal
+  // iterations); chol then factors H + eps I.
+  S proximal_weight = S(0);
   int w_size = 0;                 // |W|
+  int set_aside = 0;              // constraints set aside in this solve (active_set.hpp)
+  int fwd_valid = 0;              // leading entries of fwd_d that are current
   bool last_singular = false;             // last W row is linearly dependent
   bool factored = false;          // chol/m_rows valid for hotstart
   int factored_n = 0;                 // n the factors were built for
