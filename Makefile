@@ -5,10 +5,11 @@ SHELL := /bin/bash
 
 # libstdc++-arm-none-eabi-newlib: the Cortex-M7 build's C++ headers (<array>, ...);
 # gcc-arm-none-eabi alone is C only.
+# libssl-dev: OpenSSL's HMAC, the tests' independent check of the link's MAC.
 DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-none-eabi \
                    libstdc++-arm-none-eabi-newlib \
                    qemu-system-arm libeigen3-dev doctest-dev nlohmann-json3-dev \
-                   libcli11-dev libfmt-dev libbenchmark-dev libpugixml-dev
+                   libcli11-dev libfmt-dev libbenchmark-dev libpugixml-dev libssl-dev
 FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim
 # make sim SIM_TARGET=inproc SIM_COUNT=20 for a quick run; the default is the
