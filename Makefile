@@ -11,6 +11,8 @@ DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-non
                    qemu-system-arm libeigen3-dev doctest-dev nlohmann-json3-dev \
                    libcli11-dev libfmt-dev libbenchmark-dev libpugixml-dev libssl-dev
 FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
+# The test image (QP-check service), used by the QEMU QP agreement test only.
+TEST_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_qp_check.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim
 # make sim SIM_TARGET=inproc SIM_COUNT=20 for a quick run; the default is the
 # 200-scene suite on the Cortex-M7 firmware under QEMU (about 15 minutes),
@@ -55,9 +57,9 @@ host-release: cortex-m7
 	cmake --build --preset host-release
 
 size: cortex-m7
-	@echo "== ARM size report: $(FIRMWARE_ELF)"
+	@echo "== ARM size report: $(FIRMWARE_ELF) (production image)"
 	@arm-none-eabi-size -A -d $(FIRMWARE_ELF) | grep -E "^(section|\.isr_vector|\.text|\.data|\.bss|\.stack)"
-	@arm-none-eabi-size $(FIRMWARE_ELF)
+	@arm-none-eabi-size $(FIRMWARE_ELF) $(TEST_FIRMWARE_ELF)
 
 test: deps
 	$(MAKE) --no-print-directory host-debug

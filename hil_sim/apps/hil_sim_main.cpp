@@ -24,7 +24,7 @@
 #include "itp/link/messages.hpp"
 #include "itp/link/qp_messages.hpp"
 #include "itp/qp/qp.hpp"
-#include "link/child_process.hpp"
+#include "link/firmware_process.hpp"
 #include "link/link_client.hpp"
 
 namespace {
@@ -33,6 +33,7 @@ struct PingOptions {
   std::string target = "qemu";
   std::string firmware;
   std::string log;
+  std::string key_file;
   int count = 10;
   int timeout_ms = 5000;
   bool garbage = false;
@@ -62,15 +63,14 @@ std::vector<std::uint8_t> make_garbage(std::mt19937& rng) {
 }
 
 int run_ping(const PingOptions& opt) {
-  std::vector<std::string> cmd;
-  if (opt.target == "qemu") {
-    cmd = hil::qemu_command(opt.firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : opt.firmware, opt.log);
-  } else {
-    cmd = hil::host_firmware_command(opt.firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : opt.firmware);
-  }
-  fmt::print("starting {} firmware: {}\n", opt.target, fmt::join(cmd, " "));
-  hil::ChildProcess child(cmd, opt.target == "host" ? opt.log : "");
-  hil::LinkClient client(child);
+  const std::string firmware = opt.firmware.empty()
+                                   ? (opt.target == "qemu" ? ITP_DEFAULT_QEMU_FIRMWARE : ITP_DEFAULT_HOST_FIRMWARE)
+                                   : opt.firmware;
+  fmt::print("starting {} firmware: {}\n", opt.target, firmware);
+  const hil::LinkKey key = hil::link_key_from(opt.key_file);
+  hil::FirmwareProcess fw(opt.target, firmware, key, opt.log);
+  hil::LinkClient client(fw.process());
+  client.set_key(key);
   std::mt19937 rng(opt.seed);
   const auto timeout = std::chrono::milliseconds(opt.timeout_ms);
 
@@ -80,7 +80,7 @@ int run_ping(const PingOptions& opt) {
   std::uint64_t last_ticks = 0;
   std::uint64_t tick_hz = 0;
   bool counter_ok = true;
-  itp::link::LinkCounters fw_counters;
+  itp::link::FirmwareCounters fw_counters;
   for (int i = 0; i < opt.count; ++i) {
     if (opt.garbage && i % 2 == 1) {
       client.send_raw(make_garbage(rng));
@@ -110,20 +110,25 @@ int run_ping(const PingOptions& opt) {
     tick_hz = pong.tick_hz;
     fmt::print("ping {:3}: pong in {:7.2f} ms, firmware counter {} ticks\n", i, ms, pong.ticks);
   }
+  // The authenticated session: the key reached the firmware (key slot or file).
+  const bool session = client.open_session(timeout);
+  fmt::print("session           : {}\n", session ? "established (the firmware holds the link key)" : "FAILED");
+  failures += session ? 0 : 1;
   const auto& cc = client.counters();
+  const itp::link::LinkCounters& fl = fw_counters.link;
   fmt::print("firmware build id : {}\n", build_id.empty() ? "(none)" : build_id);
-  fmt::print("round trips       : {} ok, {} failed, {} timeouts\n", opt.count - failures, failures, cc.timeouts);
+  fmt::print("round trips       : {} ok, {} failed, {} timeouts, {} queries\n", opt.count - failures, failures,
+             cc.timeouts, cc.queries);
   fmt::print("firmware counted  : {} frames ok, {} dropped (cobs {}, length {}, crc {}, version {}, overflow {})\n",
-             fw_counters.frames_ok, fw_counters.dropped(), fw_counters.cobs_errors,
-             fw_counters.length_errors, fw_counters.crc_errors, fw_counters.version_errors,
-             fw_counters.overflows);
+             fl.frames_ok, fl.dropped(), fl.cobs_errors, fl.length_errors, fl.crc_errors, fl.version_errors,
+             fl.overflows);
   fmt::print("firmware counter  : {} Hz, {} ticks between first and last pong\n", tick_hz,
              last_ticks - first_ticks);
   if (!counter_ok || tick_hz == 0) {
     fmt::print("error: the firmware's counter is not running or not monotonic\n");
     ++failures;
   }
-  if (opt.garbage && opt.count > 2 && fw_counters.dropped() == 0) {
+  if (opt.garbage && opt.count > 2 && fl.dropped() == 0) {
     fmt::print("error: garbage was sent but the firmware counted no dropped frame\n");
     ++failures;
   }
@@ -133,28 +138,28 @@ int run_ping(const PingOptions& opt) {
 struct QpCheckOptions {
   std::string target = "qemu";
   std::string firmware;
+  std::string key_file;
   std::vector<std::string> files;
   double tolerance = 1e-9;
   int timeout_ms = 20000;
 };
 
-std::vector<std::string> firmware_command(const std::string& target, const std::string& firmware) {
-  if (target == "qemu") {
-    return hil::qemu_command(firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : firmware, "");
-  }
-  return hil::host_firmware_command(firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : firmware);
-}
-
 // Solves each QP file on the host and on the firmware (cold start both) and
 // compares: same status, and x equal to `tolerance` relative to max(1, |x|inf).
 int run_qp_check(const QpCheckOptions& opt) {
-  using D = itp::qp::PathQpDims<double>;
+  using D = itp::qp::PathQpDims<double, itp::DefaultConfig>;
   static itp::qp::QpProblem<D> problem;
   static itp::qp::QpWorkspace<D> workspace;
   static itp::qp::QpResult<D> host;
-  static std::array<std::uint8_t, itp::config::kMaxPayloadBytes> body{};
-  hil::ChildProcess child(firmware_command(opt.target, opt.firmware), "");
-  hil::LinkClient client(child);
+  static std::array<std::uint8_t, itp::link::kMaxQpRequestBytes<D>> body{};
+  // The QP-check service lives in the test firmware image only.
+  const std::string firmware =
+      !opt.firmware.empty() ? opt.firmware
+                            : (opt.target == "qemu" ? ITP_DEFAULT_QEMU_QP_CHECK_FIRMWARE : ITP_DEFAULT_HOST_QP_CHECK_FIRMWARE);
+  const hil::LinkKey key = hil::link_key_from(opt.key_file);
+  hil::FirmwareProcess fw(opt.target, firmware, key);
+  hil::LinkClient client(fw.process());
+  client.set_key(key);
   int failures = 0;
   double worst = 0;
   fmt::print("{:<28} {:>10} {:>10} {:>6} {:>12} {:>14}\n", "file", "host", "target", "iters", "rel. diff",
@@ -173,7 +178,7 @@ int run_qp_check(const QpCheckOptions& opt) {
                               : client.request(itp::link::MessageType::kQpSolveRequest,
                                                std::span<const std::uint8_t>(body.data(), n),
                                                std::chrono::milliseconds(opt.timeout_ms));
-    itp::link::QpSolveReply target;
+    itp::link::QpSolveReply<D> target;
     if (!reply || reply->type != itp::link::MessageType::kQpSolveReply || !itp::link::decode(reply->payload, target)) {
       fmt::print("{}: no valid reply from the firmware\n", path);
       client.resync();
@@ -300,6 +305,8 @@ int main(int argc, char** argv) {
   ping_cmd->add_option("--firmware", ping.firmware,
                        "Firmware executable (host) or ELF (qemu); defaults to this build's");
   ping_cmd->add_option("--log", ping.log, "File for the firmware's log lines");
+  ping_cmd->add_option("--key", ping.key_file,
+                       "Link key file (32 bytes or 64 hex digits; default: a fresh random key for this run)");
   ping_cmd->add_option("--count", ping.count, "Number of round trips")->check(CLI::PositiveNumber)->capture_default_str();
   ping_cmd->add_option("--timeout-ms", ping.timeout_ms, "Reply timeout per request")->capture_default_str();
   ping_cmd->add_flag("--garbage", ping.garbage, "Inject garbage, bit flips and truncated frames between pings");
@@ -311,7 +318,9 @@ int main(int argc, char** argv) {
   qp_cmd->add_option("--target", qp.target, "Firmware to compare with")
       ->check(CLI::IsMember({"host", "qemu"}))
       ->capture_default_str();
-  qp_cmd->add_option("--firmware", qp.firmware, "Firmware executable (host) or ELF (qemu)");
+  qp_cmd->add_option("--firmware", qp.firmware,
+                     "Firmware executable (host) or ELF (qemu) with the QP-check service (default: this build's test image)");
+  qp_cmd->add_option("--key", qp.key_file, "Link key file (default: a fresh random key for this run)");
   qp_cmd->add_option("--tolerance", qp.tolerance, "Largest relative difference of x accepted")->capture_default_str();
 
   GenOptions gen;

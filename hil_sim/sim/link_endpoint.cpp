@@ -1,19 +1,39 @@
 #include "sim/link_endpoint.hpp"
 
-#include <array>
 #include <chrono>
+#include <vector>
 
+#include "itp/link/crc32.hpp"
+#include "itp/link/messages.hpp"
 #include "itp/link/planner_messages.hpp"
-#include "link/child_process.hpp"
+#include "link/firmware_process.hpp"
 #include "link/link_client.hpp"
 
 namespace hil::sim {
 namespace {
 
+ClientPacing pacing_for(const std::string& target) {
+  ClientPacing p;
+  if (target == "qemu") {
+    // A QEMU planning cycle takes tens of milliseconds of wall time, and its
+    // UART about 10 us per byte: ask only after a long silence.
+    p.first_gap = std::chrono::milliseconds(2000);
+    p.gap = std::chrono::milliseconds(100);
+  }
+  return p;
+}
+
 class LinkEndpoint final : public PlannerEndpoint {
  public:
-  LinkEndpoint(std::string target, const std::vector<std::string>& command)
-      : target_(std::move(target)), child_(command, ""), client_(child_) {}
+  LinkEndpoint(std::string target, const std::string& firmware, const LinkOptions& options)
+      : target_(std::move(target)),
+        key_(link_key_from(options.key_file)),
+        firmware_(target_, firmware, key_),
+        client_(firmware_.process(), pacing_for(target_)),
+        deadline_(options.deadline.count() > 0 ? options.deadline
+                                               : std::chrono::milliseconds(target_ == "qemu" ? 20000 : 1000)) {
+    client_.set_key(key_);
+  }
 
   void reset() override { reset_next_ = true; }
 
@@ -31,20 +51,28 @@ class LinkEndpoint final : public PlannerEndpoint {
       res.error = "scene does not fit a link message";
       return res;
     }
-    const auto timeout = std::chrono::milliseconds(target_ == "qemu" ? 60000 : 5000);
-    const auto reply = client_.request(itp::link::MessageType::kPlanRequest,
-                                       std::span<const std::uint8_t>(body_.data(), n), timeout);
-    std::uint32_t cycle = 0;
+    const std::span<const std::uint8_t> body(body_.data(), n);
+    const auto reply = client_.request(itp::link::MessageType::kPlanRequest, body, deadline_);
     if (!reply) {
-      res.error = "no reply (timeout)";
+      res.error = "no reply before the deadline";
       client_.resync();
       return res;
     }
-    if (reply->type != itp::link::MessageType::kPlanReply || !itp::link::decode_plan(reply->payload, cycle, out) ||
-        cycle != header.cycle) {
+    if (reply->type == itp::link::MessageType::kAuthError) {
+      itp::link::AuthErrorReply err;
+      res.error = std::string("refused by the firmware: ") +
+                  (itp::link::decode(reply->payload, err) ? itp::link::to_string(err.code) : "?");
+      return res;
+    }
+    itp::link::PlanHeader ph;
+    if (reply->type != itp::link::MessageType::kPlanReply || !itp::link::decode_plan(reply->payload, ph, out) ||
+        ph.cycle != header.cycle) {
       res.error = "corrupt or unexpected reply";
       return res;
     }
+    // The firmware echoes the CRC-32 of the Scene it planned: a scene that
+    // changed on the way and was still accepted would show here.
+    res.scene_mismatch = ph.scene_crc != itp::link::crc32(body);
     reset_next_ = false;
     res.ok = true;
     if (out.timing.tick_hz > 0) {
@@ -62,9 +90,11 @@ class LinkEndpoint final : public PlannerEndpoint {
 
  private:
   std::string target_;
-  ChildProcess child_;
+  LinkKey key_;
+  FirmwareProcess firmware_;
   LinkClient client_;
-  std::array<std::uint8_t, itp::config::kMaxPayloadBytes> body_{};
+  std::chrono::milliseconds deadline_;
+  std::array<std::uint8_t, itp::link::kMaxSceneBytes<itp::DefaultConfig>> body_{};
   std::uint32_t cycle_ = 0;
   bool reset_next_ = true;
 };
@@ -72,13 +102,13 @@ class LinkEndpoint final : public PlannerEndpoint {
 }  // namespace
 
 std::unique_ptr<PlannerEndpoint> make_link_endpoint(const std::string& target, const std::string& firmware,
-                                                    std::string* error) {
+                                                    std::string* error, const LinkOptions& options) {
   try {
     if (target == "qemu") {
-      return std::make_unique<LinkEndpoint>(target, qemu_command(firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : firmware, ""));
+      return std::make_unique<LinkEndpoint>(target, firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : firmware, options);
     }
     if (target == "host") {
-      return std::make_unique<LinkEndpoint>(target, host_firmware_command(firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : firmware));
+      return std::make_unique<LinkEndpoint>(target, firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : firmware, options);
     }
     if (error != nullptr) *error = "unknown target '" + target + "'";
   } catch (const std::exception& e) {

@@ -14,6 +14,7 @@ namespace hil::sim {
 struct EndpointResult {
   bool ok = false;            // false: timeout, corrupt or missing reply (counted as a link error)
   std::string error;          // for people, when !ok
+  bool scene_mismatch = false;  // the firmware planned a Scene other than the one sent (its CRC echo differs)
   double cycle_time_us = -1;  // host targets: the planner's own total time; < 0 when not measured
   double instructions = -1;   // qemu: instructions of the planning cycle (40 per tick); < 0 when not measured
 };

@@ -64,7 +64,10 @@ inline constexpr Scalar kMaxPredictionTime = Scalar(3600);      // [s] |t - now|
 inline constexpr Scalar kMaxEgoOffsetFromReference = Scalar(10);  // [m] ego to polyline
 
 // --- Serial link -------------------------------------------------------------
-inline constexpr std::size_t kMaxPayloadBytes = 32768;   // one message body (a path QP or a scene)
+// A message travels in segments of at most this many bytes (docs/protocol.md):
+// the decoder's buffer holds one segment; message buffers are sized by the
+// largest message of the configuration (link/planner_messages.hpp).
+inline constexpr std::size_t kMaxSegmentBytes = 1024;
 inline constexpr std::size_t kBuildIdBytes = 48;         // fixed field in Pong
 
 }  // namespace config
