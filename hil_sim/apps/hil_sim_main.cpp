@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <cmath>
 #include <random>
+#include <thread>
 
 #include "formats/qp_text.hpp"
 #include "sim/closed_loop.hpp"
@@ -37,8 +38,63 @@ struct PingOptions {
   int count = 10;
   int timeout_ms = 5000;
   bool garbage = false;
+  bool fill_pipe = false;
   std::uint32_t seed = 1;
 };
+
+// Shrinks the firmware's output pipe to one page and sends, back to back and
+// without reading, just enough Pings that the last Pong overflows it: the
+// firmware has then no input left and its transmitter is full. After a
+// second the host reads, without a nudge: every Pong must arrive. A firmware
+// that waits for transmit room only until the next received byte stalls
+// here for good (issue 13, defect 10).
+int run_burst(hil::ByteTransport& link, int count, int timeout_ms);
+
+int run_fill_pipe(hil::ChildProcess& child, int timeout_ms) {
+  const std::size_t capacity = child.set_output_pipe_size(4096);
+  constexpr std::size_t kPongWire = 2 + 1 + itp::link::kHeaderBytes + itp::link::kPongBytes + itp::link::kCrcBytes;
+  if (capacity == 0) {
+    fmt::print("fill-pipe: cannot set the pipe size\n");
+    return 1;
+  }
+  const int count = static_cast<int>(capacity / kPongWire) + 1;
+  fmt::print("fill-pipe: pipe of {} bytes, {} Pongs of {} bytes\n", capacity, count, kPongWire);
+  return run_burst(child, count, timeout_ms);
+}
+
+int run_burst(hil::ByteTransport& link, int count, int timeout_ms) {
+  std::vector<std::uint8_t> out;
+  std::array<std::uint8_t, itp::link::kMaxWireFrameBytes> frame{};
+  for (int i = 0; i < count; ++i) {
+    std::array<std::uint8_t, itp::link::kPingBytes> body{};
+    itp::link::encode(itp::link::Ping{static_cast<std::uint32_t>(i)}, body);
+    const std::size_t n = itp::link::encode_frame(itp::link::MessageType::kPing, static_cast<std::uint16_t>(i), body, frame);
+    out.insert(out.end(), frame.begin(), frame.begin() + static_cast<long>(n));
+  }
+  if (!link.write_all(out)) {
+    fmt::print("burst: the firmware is gone\n");
+    return 1;
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  itp::link::FrameDecoder dec;
+  std::vector<bool> seen(static_cast<std::size_t>(count), false);
+  int pongs = 0;
+  std::array<std::uint8_t, 4096> rx{};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (pongs < count && std::chrono::steady_clock::now() < deadline) {
+    const std::size_t n = link.read_some(rx, std::chrono::milliseconds(100));
+    for (std::size_t i = 0; i < n; ++i) {
+      itp::link::Pong pong;
+      if (dec.push(rx[i]) == itp::link::DecodeResult::kFrame && dec.frame().header.type == itp::link::MessageType::kPong &&
+          itp::link::decode(dec.frame().chunk, pong) && pong.nonce < seen.size() && !seen[pong.nonce]) {
+        seen[pong.nonce] = true;
+        ++pongs;
+      }
+    }
+  }
+  fmt::print("burst: {} pings sent back to back, {} pongs received without a nudge\n", count, pongs);
+  return pongs == count ? 0 : 1;
+}
 
 // Random bytes, a frame with one bit flipped and a truncated frame: the
 // firmware must drop and count all of them, then still answer.
@@ -69,6 +125,9 @@ int run_ping(const PingOptions& opt) {
   fmt::print("starting {} firmware: {}\n", opt.target, firmware);
   const hil::LinkKey key = hil::link_key_from(opt.key_file);
   hil::FirmwareProcess fw(opt.target, firmware, key, opt.log);
+  if (opt.fill_pipe) {
+    return run_fill_pipe(fw.process(), opt.timeout_ms);
+  }
   hil::LinkClient client(fw.process());
   client.set_key(key);
   std::mt19937 rng(opt.seed);
@@ -310,6 +369,9 @@ int main(int argc, char** argv) {
   ping_cmd->add_option("--count", ping.count, "Number of round trips")->check(CLI::PositiveNumber)->capture_default_str();
   ping_cmd->add_option("--timeout-ms", ping.timeout_ms, "Reply timeout per request")->capture_default_str();
   ping_cmd->add_flag("--garbage", ping.garbage, "Inject garbage, bit flips and truncated frames between pings");
+  ping_cmd->add_flag("--fill-pipe", ping.fill_pipe,
+                     "Instead: overflow a one-page output pipe with the last of a burst of Pongs, then read them "
+                     "all without nudging (the transmitter must wake the firmware)");
   ping_cmd->add_option("--seed", ping.seed, "Seed for nonces and garbage")->capture_default_str();
 
   QpCheckOptions qp;
@@ -360,6 +422,14 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--trace", run.trace, "Write one JSON object per cycle (status, reason, ego pose, speed) to this file");
   run_cmd->add_option("--duration", run.duration, "Run length per scene [s] (default: the scene's, else 12)")
       ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--link-faults", run.link_faults,
+                      "host/qemu: byte faults on the link, both directions: drop=P,dup=P,flip=P,reorder=P[,seed=N] "
+                      "(or bytes=P, split evenly)");
+  run_cmd->add_option("--link-deadline-ms", run.link_deadline_ms,
+                      "host/qemu: time a cycle's reply may take, retransmissions included (default 1000 host, 20000 qemu)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--key", run.key_file,
+                      "host/qemu: link key file (32 bytes or 64 hex digits; default: a fresh random key for the run)");
   add_commonroad_options(run_cmd, run.commonroad, false);
 
   std::string compare_a, compare_b, compare_json;

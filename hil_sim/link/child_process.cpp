@@ -88,6 +88,12 @@ std::size_t ChildProcess::read_some(std::span<std::uint8_t> buffer,
   return n > 0 ? static_cast<std::size_t>(n) : 0;
 }
 
+std::size_t ChildProcess::set_output_pipe_size(std::size_t bytes) {
+  fcntl(from_child_, F_SETPIPE_SZ, static_cast<int>(bytes));
+  const int size = fcntl(from_child_, F_GETPIPE_SZ);
+  return size > 0 ? static_cast<std::size_t>(size) : 0;
+}
+
 bool ChildProcess::running() {
   if (pid_ <= 0) {
     return false;

@@ -24,6 +24,9 @@ class ChildProcess final : public ByteTransport {
                         std::chrono::milliseconds timeout) override;
 
   bool running();
+  // Shrinks (or grows) the pipe the child writes into; returns its capacity
+  // in bytes afterwards (Linux F_SETPIPE_SZ), 0 if that failed.
+  std::size_t set_output_pipe_size(std::size_t bytes);
   // Ends the child (SIGTERM, then SIGKILL) and reaps it.
   void stop();
 

@@ -6,6 +6,7 @@
 #include "itp/link/crc32.hpp"
 #include "itp/link/messages.hpp"
 #include "itp/link/planner_messages.hpp"
+#include "link/fault_injection.hpp"
 #include "link/firmware_process.hpp"
 #include "link/link_client.hpp"
 
@@ -15,10 +16,12 @@ namespace {
 ClientPacing pacing_for(const std::string& target) {
   ClientPacing p;
   if (target == "qemu") {
-    // A QEMU planning cycle takes tens of milliseconds of wall time, and its
-    // UART about 10 us per byte: ask only after a long silence.
-    p.first_gap = std::chrono::milliseconds(2000);
-    p.gap = std::chrono::milliseconds(100);
+    // A QEMU planning cycle takes tens (rarely hundreds) of milliseconds of
+    // wall time, and its UART writes a byte every few microseconds: ask after
+    // half a second of silence following a request (a rare long cycle then
+    // has its reply sent twice), and after 30 ms once the reply is flowing.
+    p.first_gap = std::chrono::milliseconds(500);
+    p.gap = std::chrono::milliseconds(30);
   }
   return p;
 }
@@ -29,7 +32,8 @@ class LinkEndpoint final : public PlannerEndpoint {
       : target_(std::move(target)),
         key_(link_key_from(options.key_file)),
         firmware_(target_, firmware, key_),
-        client_(firmware_.process(), pacing_for(target_)),
+        faulty_(options.faults.any() ? std::make_unique<FaultyTransport>(firmware_.process(), options.faults) : nullptr),
+        client_(faulty_ ? static_cast<ByteTransport&>(*faulty_) : firmware_.process(), pacing_for(target_)),
         deadline_(options.deadline.count() > 0 ? options.deadline
                                                : std::chrono::milliseconds(target_ == "qemu" ? 20000 : 1000)) {
     client_.set_key(key_);
@@ -88,10 +92,31 @@ class LinkEndpoint final : public PlannerEndpoint {
 
   std::string name() const override { return target_; }
 
+  nlohmann::json link_statistics() const override {
+    const ClientCounters& c = client_.counters();
+    const itp::link::LinkCounters& rx = client_.rx_counters();
+    const itp::link::AuthCounters& a = client_.auth_counters();
+    nlohmann::json j = {{"requests", c.requests},         {"replies", c.replies},
+                        {"timeouts", c.timeouts},         {"stale_replies", c.stale_replies},
+                        {"queries", c.queries},           {"statuses", c.statuses},
+                        {"segments_resent", c.segments_resent}, {"replies_refused", c.auth_refused},
+                        {"auth_errors", c.auth_errors},   {"sessions", c.sessions},
+                        {"frames_received", rx.frames_ok}, {"frames_dropped", rx.dropped()},
+                        {"secured_replies_accepted", a.accepted}, {"final_segment_size", client_.segment_size()}};
+    if (faulty_) {
+      j["faults_to_firmware"] = faulty_->to_firmware().faults();
+      j["faults_to_host"] = faulty_->to_host().faults();
+      j["bytes_to_firmware"] = faulty_->to_firmware().bytes;
+      j["bytes_to_host"] = faulty_->to_host().bytes;
+    }
+    return j;
+  }
+
  private:
   std::string target_;
   LinkKey key_;
   FirmwareProcess firmware_;
+  std::unique_ptr<FaultyTransport> faulty_;
   LinkClient client_;
   std::chrono::milliseconds deadline_;
   std::array<std::uint8_t, itp::link::kMaxSceneBytes<itp::DefaultConfig>> body_{};

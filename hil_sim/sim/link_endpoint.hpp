@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "link/fault_injection.hpp"
 #include "sim/planner_endpoint.hpp"
 
 namespace hil::sim {
@@ -16,6 +17,7 @@ struct LinkOptions {
   // included (<= 0: 1 s on host, 20 s on qemu, whose emulation is far slower
   // than the target it stands for).
   std::chrono::milliseconds deadline{0};
+  hil::LinkFaults faults{};  // bytes dropped, duplicated, flipped, reordered on the way (both directions)
 };
 
 // target "host" or "qemu"; `firmware` "" uses this build's default. Returns

@@ -6,6 +6,8 @@
 // its Plan message (hil_sim/link/, docs/protocol.md).
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
 
@@ -27,6 +29,8 @@ class PlannerEndpoint {
   // Plans one cycle at scene time `now` (the Scene's predictions are in scene time).
   virtual EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) = 0;
   virtual std::string name() const = 0;  // "inproc", "host", "qemu"
+  // What the link counted over the run (report/1 key "link"); null without a link.
+  virtual nlohmann::json link_statistics() const { return nullptr; }
 };
 
 }  // namespace hil::sim
