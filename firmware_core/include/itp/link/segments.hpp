@@ -133,13 +133,21 @@ class Outbox {
     return true;
   }
 
-  void queue_all() { queued_.fill_first(staged_ ? header_.segment_count : 0); }
+  void queue_all() {
+    queued_.fill_first(staged_ ? header_.segment_count : 0);
+    queued_count_ = staged_ ? header_.segment_count : 0;
+    next_ = 0;
+  }
   // Queues the segments in `which` (e.g. a peer's missing set); returns how many.
   std::size_t queue(const SegmentSet& which) {
     std::size_t n = 0;
     for (std::size_t i = 0; staged_ && i < header_.segment_count; ++i) {  // <= kMaxSegments
       if (which.test(i)) {
-        queued_.set(i);
+        if (!queued_.test(i)) {
+          queued_.set(i);
+          ++queued_count_;
+        }
+        next_ = i < next_ ? i : next_;
         ++n;
       }
     }
@@ -148,25 +156,29 @@ class Outbox {
   void drop() {
     staged_ = false;
     queued_.clear();
+    queued_count_ = 0;
   }
 
   // Encodes the next queued segment into `out` and dequeues it; 0 when none is queued.
   std::size_t next_frame(std::span<std::uint8_t> out) {
-    for (std::size_t i = 0; staged_ && i < header_.segment_count; ++i) {  // <= kMaxSegments
+    // No queued index lies below next_: one pass over the segments per burst.
+    for (std::size_t i = next_; staged_ && queued_count_ > 0 && i < header_.segment_count; ++i) {  // <= kMaxSegments
       if (!queued_.test(i)) {
         continue;
       }
       queued_.reset(i);
+      --queued_count_;
+      next_ = i + 1;
       FrameHeader h = header_;
       h.segment_index = static_cast<std::uint8_t>(i);
-      h.flags = poll_last_ && queued_.count() == 0 ? kFlagPoll : std::uint8_t{0};
+      h.flags = poll_last_ && queued_count_ == 0 ? kFlagPoll : std::uint8_t{0};
       return encode_segment(h, std::span<const std::uint8_t>(buffer_.data(), header_.message_length), out);
     }
     return 0;
   }
 
   bool staged() const { return staged_; }
-  bool pending() const { return staged_ && queued_.count() > 0; }
+  bool pending() const { return staged_ && queued_count_ > 0; }
   bool holds(MessageType type, std::uint16_t sequence) const {
     return staged_ && header_.type == type && header_.sequence == sequence;
   }
@@ -181,6 +193,8 @@ class Outbox {
   std::array<std::uint8_t, Capacity> buffer_{};
   FrameHeader header_{};
   SegmentSet queued_{};
+  std::size_t queued_count_ = 0;  // segments in queued_
+  std::size_t next_ = 0;          // lowest index that may be queued
   bool poll_last_ = false;
   bool staged_ = false;
 };
