@@ -13,6 +13,13 @@ root=$(cd "$here/../.." && pwd)
 targets=${FUZZ_TARGETS:-"fuzz_frame_decoder fuzz_service_raw fuzz_service_framed fuzz_scene_json fuzz_commonroad fuzz_qp_text"}
 status=0
 for t in $targets; do
+  # The longest input worth trying: two largest frames on the line; a few
+  # frames to the service; a largest Scene with room around it for the rest.
+  case $t in
+    fuzz_frame_decoder) max_len=2200 ;;
+    fuzz_service_raw) max_len=4096 ;;
+    *) max_len=16384 ;;
+  esac
   case $t in
     fuzz_scene_json) seeds=("$here/corpus/scene_json" "$root/tests/scene/data") ;;
     fuzz_qp_text) seeds=("$root/tests/qp/data") ;;
@@ -21,7 +28,7 @@ for t in $targets; do
   scratch="$build/scratch/$t"
   mkdir -p "$scratch"
   log="$build/$t.log"
-  "$build/$t" -max_len=16384 -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 "$@" "$scratch" "${seeds[@]}" > "$log" 2>&1
+  "$build/$t" -max_len=$max_len -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 "$@" "$scratch" "${seeds[@]}" > "$log" 2>&1
   rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   secs=$(sed -n 's/^Done [0-9]* runs in \([0-9]*\) second.*/\1/p' "$log" | tail -1)
