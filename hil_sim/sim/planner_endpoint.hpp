@@ -6,6 +6,8 @@
 // its Plan message (hil_sim/link/, docs/protocol.md).
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
 
@@ -14,6 +16,7 @@ namespace hil::sim {
 struct EndpointResult {
   bool ok = false;            // false: timeout, corrupt or missing reply (counted as a link error)
   std::string error;          // for people, when !ok
+  bool scene_mismatch = false;  // the firmware planned a Scene other than the one sent (its CRC echo differs)
   double cycle_time_us = -1;  // host targets: the planner's own total time; < 0 when not measured
   double instructions = -1;   // qemu: instructions of the planning cycle (40 per tick); < 0 when not measured
 };
@@ -26,6 +29,8 @@ class PlannerEndpoint {
   // Plans one cycle at scene time `now` (the Scene's predictions are in scene time).
   virtual EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) = 0;
   virtual std::string name() const = 0;  // "inproc", "host", "qemu"
+  // What the link counted over the run (report/1 key "link"); null without a link.
+  virtual nlohmann::json link_statistics() const { return nullptr; }
 };
 
 }  // namespace hil::sim

@@ -1,0 +1,17 @@
+// The production firmware image: Ping, the authenticated session and the
+// planner, for the configuration chosen in firmware_config.hpp.
+#include <cstddef>
+
+#include "firmware_config.hpp"
+#include "firmware_loop.hpp"
+#include "itp/app/firmware_service.hpp"
+#include "port/firmware_run.hpp"
+
+namespace {
+
+using Service = itp::app::FirmwareService<port_image::FirmwareConfig>;
+alignas(Service) std::byte g_service_storage[sizeof(Service)];
+
+}  // namespace
+
+void firmware_run() { port_image::run<Service>(g_service_storage, ITP_BUILD_ID); }
