@@ -43,7 +43,7 @@ TEST_CASE("SL scene: a static box is the obstacle's extent, inflated by the marg
   add_static(s, 3, 50, 0.5, 0, 4.0, 2.0);  // x in [48, 52], y in [-0.5, 1.5]
   Fitted f(s);
   auto sl = std::make_unique<BasicSlScene<Cfg>>();
-  sl->build(s, *f.line, 0, 0, kSettings);
+  sl->build(s, *f.line, 0, 0, 100, kSettings);
   REQUIRE(sl->boxes().size() == 1);
   const auto& b = sl->boxes()[0];
   const double m = kSettings.static_margin;
@@ -69,7 +69,7 @@ TEST_CASE("SL scene: movers are classified where first seen (oncoming, crossing,
   add_mover(s, 14, 40, 0, 0, 5);                    // a slow leader in the ego's lane
   Fitted f(s);
   auto sl = std::make_unique<BasicSlScene<Cfg>>();
-  sl->build(s, *f.line, 0, 0, kSettings);
+  sl->build(s, *f.line, 0, 0, 100, kSettings);
   REQUIRE(sl->tracks().size() == 4);
   const auto& t = sl->tracks();
   CHECK(t[0].sweep_occupied);
@@ -93,7 +93,7 @@ TEST_CASE("SL scene: a leader is placed where the guessed ego motion meets it, t
   add_mover(s, 14, 40, 0, 0, 5);                    // leader at 5 m/s
   Fitted f(s);
   auto sl = std::make_unique<BasicSlScene<Cfg>>();
-  sl->build(s, *f.line, 0, 0, kSettings);
+  sl->build(s, *f.line, 0, 0, 100, kSettings);
   // The ego guessed at 15 m/s: its rear axle reaches the leader's grown box
   // (leader rear at 40 - 2.25 - margin + 5 t, less the ego's front reach
   // 3.8 m) at 15 t = 40 - 2.25 - 0.5 - 3.8 + 5 t, t = 3.345 s: sample 34.

@@ -77,6 +77,10 @@ struct DefaultSizes {
   static constexpr int kMaxStaticObstacles = 10;
   static constexpr int kMaxDynamicObstacles = 5;
   static constexpr int kMaxPredictionSamples = 80;  // poses per dynamic obstacle
+  // Convex space: extra slice edges where the road's edges change (a
+  // narrowing, a lane that ends), beside the obstacles' edges. Without them a
+  // slice free of obstacles takes the narrowest road over its whole length.
+  static constexpr int kMaxRoadCuts = 8;
 
   // Convex space and decision (paper 1.1)
   static constexpr int kKeptDecisions = 20;  // K best decisions evaluated
@@ -112,9 +116,10 @@ struct Configuration : Sizes {
   // t = 0, step, ..., horizon
   static constexpr int kTrajectorySamples =
       static_cast<int>(kSpeedHorizon / kTrajectoryStep + Scalar(0.5)) + 1;
-  // Each obstacle contributes at most two cuts in s, hence at most 2N+1 slices.
+  // Each obstacle contributes at most two cuts in s, the road's edges at most
+  // kMaxRoadCuts, hence at most 2N + 1 + kMaxRoadCuts slices.
   static constexpr int kMaxObstacles = kMaxStaticObstacles + kMaxDynamicObstacles;
-  static constexpr int kMaxSlices = 2 * kMaxObstacles + 1;
+  static constexpr int kMaxSlices = 2 * kMaxObstacles + 1 + Sizes::kMaxRoadCuts;
   static constexpr int kMaxZonesPerSlice = kMaxObstacles + 1;  // gaps between N intervals
   static constexpr int kMaxZones = kMaxSlices * kMaxZonesPerSlice;
   static constexpr int kKnotStates = 3;  // (value, 1st, 2nd derivative) per knot
@@ -145,7 +150,7 @@ struct Configuration : Sizes {
                 "horizons too short to plan in");
   static_assert(kMaxReferencePoints >= 2 && Sizes::kMaxBoundaryPoints >= 1 &&
                     Sizes::kMaxPredictionSamples >= 1 && kMaxStaticObstacles >= 0 &&
-                    kMaxDynamicObstacles >= 0,
+                    kMaxDynamicObstacles >= 0 && Sizes::kMaxRoadCuts >= 0,
                 "bad scene capacities");
   static_assert(kMaxZonesPerSlice <= 16, "zone successors are a 16-bit mask");
   static_assert(kMaxZones < 32767 && kMaxObstacles < 32767, "zone and box indices are int16");

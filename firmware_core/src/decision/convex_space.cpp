@@ -15,7 +15,7 @@ namespace {
 // zones that the path could never connect.
 constexpr Scalar kMinSliceLength = Scalar(2.0);  // [m]
 template <class Cfg>
-constexpr int kMaxCuts = 2 * Cfg::kMaxObstacles + 2;
+constexpr int kMaxCuts = 2 * Cfg::kMaxObstacles + 2 + Cfg::kMaxRoadCuts;
 
 bool finite_box(const SlBox& b) {
   return std::isfinite(b.s_min) && std::isfinite(b.s_max) && std::isfinite(b.l_min) &&
@@ -23,9 +23,10 @@ bool finite_box(const SlBox& b) {
 }
 
 
-// Sorted, de-duplicated cut positions in s: the slice edges.
+// Sorted, de-duplicated cut positions in s: the slice edges (the boxes'
+// ends and the road's cuts).
 template <class Cfg>
-int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
+int collect_cuts(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar s0, Scalar s1,
                  std::array<Scalar, kMaxCuts<Cfg>>& cuts) {
   int n = 0;
   cuts[static_cast<std::size_t>(n++)] = s0;
@@ -35,6 +36,11 @@ int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
       if (e > s0 && e < s1) {
         cuts[static_cast<std::size_t>(n++)] = e;
       }
+    }
+  }
+  for (const Scalar e : road.cuts) {  // <= kMaxRoadCuts
+    if (e > s0 && e < s1) {
+      cuts[static_cast<std::size_t>(n++)] = e;
     }
   }
   cuts[static_cast<std::size_t>(n++)] = s1;
@@ -229,7 +235,7 @@ ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<con
     }
   }
   std::array<Scalar, kMaxCuts<Cfg>> cuts{};
-  const int n_cuts = collect_cuts<Cfg>(boxes, params.s_start, params.s_end, cuts);
+  const int n_cuts = collect_cuts<Cfg>(road, boxes, params.s_start, params.s_end, cuts);
   for (int i = 0; i + 1 < n_cuts; ++i) {  // < kMaxSlices
     const Scalar sa = cuts[static_cast<std::size_t>(i)];
     const Scalar sb = cuts[static_cast<std::size_t>(i + 1)];

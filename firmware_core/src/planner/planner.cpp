@@ -63,7 +63,7 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
   length_ = clamp(v_plan * Cfg::kSpeedHorizon + front + settings_.stop_margin, Cfg::kPathLength,
                   Cfg::kMaxPathLength);
   map_end_ = reference_.length();
-  sl_.build(scene, reference_, now, s_start, settings_);
+  sl_.build(scene, reference_, now, s_start, s_start + length_, settings_);
   if (map_end_ - s_start < sl_.rear()) {
     return false;  // caller falls back: the ego is at or past the end of the map
   }

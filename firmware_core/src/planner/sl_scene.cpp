@@ -64,7 +64,7 @@ geometry::SlBox moving_box_sl(const geometry::BasicReferenceLine<Cfg>& line, Sca
 
 template <class Cfg>
 void BasicSlScene<Cfg>::build(const Scene& scene, const ReferenceLine& line, Scalar now,
-                              Scalar s_start, const PlannerSettings& settings) {
+                              Scalar s_start, Scalar s_end, const PlannerSettings& settings) {
   rear_ = scene::rear_overhang(scene.ego.geometry);
   front_ = scene.ego.geometry.length - rear_;
   s_start_ = s_start;
@@ -73,6 +73,7 @@ void BasicSlScene<Cfg>::build(const Scene& scene, const ReferenceLine& line, Sca
   road_.right = to_profile(scene.road.right, settings.road_margin);
   road_.lane_width = scene.road.lane_width;
   road_.target_lane_offset = scene.road.target_lane_offset;
+  decision::select_road_cuts(road_, s_start, s_end, settings.road_cut_tolerance, settings.road_cut_min_slice);
   project_statics(scene, line, settings.static_margin);
   project_dynamics(scene, line, now, settings.dynamic_margin);
 }

@@ -36,8 +36,9 @@ class BasicSlScene {
   // ST samples: every horizon / kSpeedSamples (0.1 s) over the speed horizon.
   static constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);  // [s]
 
-  // A validated scene at time `now`, the ego's rear axle at path s `s_start`.
-  void build(const Scene& scene, const ReferenceLine& line, Scalar now, Scalar s_start,
+  // A validated scene at time `now`, the ego's rear axle at path s `s_start`,
+  // the SL horizon ending at `s_end` (the road's cuts are chosen within it).
+  void build(const Scene& scene, const ReferenceLine& line, Scalar now, Scalar s_start, Scalar s_end,
              const PlannerSettings& settings);
 
   // Back to the static boxes, then each dynamic obstacle not `skip`ped and
