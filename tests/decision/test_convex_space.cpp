@@ -219,3 +219,21 @@ TEST_CASE("road cuts: none for constant or barely varying edges, never more than
     last = c;
   }
 }
+
+TEST_CASE("a box ending just ahead of the ego ends there, not at the next cut") {
+  // A car behind in the left lane whose sweep ends 1.7 m ahead of the ego. Cuts
+  // closer than 2 m merge, and dropping that one stretched the box over the
+  // whole next slice (to the next obstacle 34 m ahead): the ego's corridor was
+  // its lane's right part for 34 m although it stood beside it.
+  const std::vector<SlBox> boxes{box(-12, 1.7, 1.2, 4.3, 1), box(34, 44, 4.9, 7.7, 2)};
+  auto space = std::make_unique<ConvexSpace>();
+  REQUIRE(build_convex_space(road(-1.4, 7.7), boxes, params(0.3), *space) == ConvexSpaceStatus::kOk);
+  REQUIRE(space->slices.size() >= 3);
+  CHECK(space->slices[0].s_end == doctest::Approx(1.7));
+  CHECK(space->slices[1].s_begin == doctest::Approx(1.7));
+  CHECK(space->slices[1].s_end == doctest::Approx(34));
+  REQUIRE(space->slices[1].zone_count == 1);
+  const Zone& free = space->zones[static_cast<std::size_t>(space->slices[1].first_zone)];
+  CHECK(free.l_min == doctest::Approx(-1.4));
+  CHECK(free.l_max == doctest::Approx(7.7));
+}

@@ -58,6 +58,13 @@ int collect_cuts(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Sca
     const Scalar v = cuts[static_cast<std::size_t>(i)];
     if (v - cuts[static_cast<std::size_t>(kept - 1)] >= kMinSliceLength) {
       cuts[static_cast<std::size_t>(kept++)] = v;
+    } else if (kept == 1 && v > cuts[0]) {
+      // The first cut stays too: the ego is already in the first slice (no
+      // lateral move needed within it). Dropping a box's end just ahead of
+      // the ego instead stretched the box over the whole next slice (a car
+      // behind in the next lane whose sweep ends 1.7 m ahead narrowed the
+      // ego's corridor for 34 m, and the ego stood outside it).
+      cuts[static_cast<std::size_t>(kept++)] = v;
     } else if (i == n - 1) {
       // The horizon end always stays. Dropping the cut before it instead
       // would stretch the box that starts there back over the whole previous
