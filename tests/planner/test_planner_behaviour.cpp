@@ -298,3 +298,32 @@ TEST_CASE("the road's width changes ahead: the ego plans through, the narrowing 
     CHECK(r.plan->trajectory[10].l == doctest::Approx(0.0).scale(1.0).epsilon(0.1));  // no jump at the start
   }
 }
+
+TEST_CASE("an oncoming car in its own lane of a narrow two-way road: no yield, no braking") {
+  // Lanes of 2.76 m, the ego 2.0 m wide at 19.5 m/s in the right lane, an
+  // oncoming car (1.85 m) at 20.5 m/s in the left lane: 0.83 m between them
+  // when both keep their lanes. Its box (0.5 m margin) was pushed 0.2 m
+  // towards the ego to fit inside the road's edges less the road margin, and
+  // the ST graph tested the path with 0.3 m more on top: the path met it in
+  // its own lane, and an ok plan "yielded" to it at -6 m/s².
+  Scene s = road_scene(1, 0, 0, 400);
+  s.road.lane_width = 2.76;
+  s.road.right.offset = -1.38;
+  s.road.left.offset = 1.38 + 2.76;
+  s.road.speed_limit = 23.1;
+  s.ego.geometry.length = 5.0;
+  s.ego.geometry.width = 2.0;
+  s.ego.geometry.wheelbase = 3.0;
+  s.ego.state.v = 19.5;
+  add_mover(s, 102, 160, 2.76, M_PI, 20.5, 4.41, 1.85);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(decision_for(*r.plan, 102).longitudinal != itp::speed::Longitudinal::kYield);
+  CHECK(min_clearance(s, *r.plan) >= 0.5);
+  for (const TrajectoryPoint& q : r.plan->trajectory) {
+    CHECK(q.a >= -1.0);
+    CHECK(q.l + 1.0 <= 1.38 + 0.05);  // in its own lane
+  }
+}

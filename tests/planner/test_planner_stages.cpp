@@ -114,33 +114,6 @@ TEST_CASE("SL scene: a car behind the reference line's start on a bend keeps its
   }
 }
 
-TEST_CASE("SL scene: a car behind the reference line's start on a bend keeps its lane") {
-  // A left bend of R = 250 m starting at the reference line's first point; a
-  // car 15 m behind that point in the left lane (on the bend's continuation)
-  // at 15 m/s, predicted at constant velocity. Behind the line's start the
-  // frame runs straight, so the car's heading differs from the road's where
-  // its straight-line prediction reaches the line by the bend (3.5 deg), not
-  // by a lane change: it must not be predicted into the ego's lane.
-  const double radius = 250;
-  Scene s = road_scene(1, 0, radius, 200);
-  s.ego.state.x = radius * std::sin(40.0 / radius);
-  s.ego.state.y = radius * (1 - std::cos(40.0 / radius));
-  s.ego.state.heading = 40.0 / radius;
-  const double r_lane = radius - 3.5;
-  const double phi = -15.0 / r_lane;
-  add_mover(s, 21, r_lane * std::sin(phi), radius - r_lane * std::cos(phi), phi, 15);
-  Fitted f(s);
-  auto sl = std::make_unique<BasicSlScene<Cfg>>();
-  sl->build(s, *f.line, 0, 40, 150, kSettings);
-  REQUIRE(sl->motions().size() == 1);
-  for (std::size_t k = 10; k < static_cast<std::size_t>(Cfg::kStSamples); k += 10) {
-    const auto& m = sl->motions()[0][k];
-    REQUIRE(m.present);
-    const auto fr = f.line->to_frenet(itp::geometry::Point2{m.x, m.y});
-    CHECK(fr.l > 2.5);  // its lane [1.75, 5.25]; the ego's lane ends at 1.75
-  }
-}
-
 TEST_CASE("SL scene: a car whose body fits the road keeps its box where it is") {
   // Narrow two-way road (lanes 2.76 m, edges -1.38 / 4.14); an oncoming car
   // (1.85 m) in the left lane's centre. Its box with the 0.5 m margin reaches

@@ -78,6 +78,8 @@ class BasicSlScene {
   Scalar ego_v_ = 0;    // [m/s]
   Scalar front_ = 0;    // [m]
   Scalar rear_ = 0;     // [m]
+  Scalar road_margin_ = 0;     // [m] road_'s edges lie this far inside the real ones
+  Scalar dynamic_margin_ = 0;  // [m] moving boxes are inflated by this
   // Static boxes (inflated in s by the ego's extents), then the dynamic ones
   // at their meeting places.
   StaticVector<geometry::SlBox, Cfg::kMaxObstacles> boxes_;
