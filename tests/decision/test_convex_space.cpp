@@ -143,3 +143,97 @@ TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough, and 
     }
   }
 }
+
+TEST_CASE("road cuts: a narrowing far ahead does not narrow the ego's slice") {
+  // Two lanes [-1.75, 5.25]; the right edge moves in by 3.5 m between s = 60
+  // and s = 90 (the ego's lane ends). One slice over the whole horizon took
+  // the narrowest road, [1.75, 5.25], which excludes the ego at l = 0.
+  RoadSl r = road(-1.75, 5.25, 3.5);
+  r.right = LateralProfile{};
+  REQUIRE(r.right.add(0, -1.75));
+  REQUIRE(r.right.add(60, -1.75));
+  REQUIRE(r.right.add(90, 1.75));
+  auto space = std::make_unique<ConvexSpace>();
+  SUBCASE("without road cuts (the old slicing): no zone holds the ego") {
+    REQUIRE(build_convex_space(r, {}, params(), *space) == ConvexSpaceStatus::kOk);
+    REQUIRE(space->slices.size() == 1);
+    CHECK(space->zones[0].l_min == doctest::Approx(1.75));
+  }
+  SUBCASE("with road cuts: the slice before the narrowing keeps the whole road") {
+    select_road_cuts(r, 0, 100, 0.1, 4.0);
+    REQUIRE_FALSE(r.cuts.empty());
+    CHECK(r.cuts.size() <= static_cast<std::size_t>(itp::DefaultConfig::kMaxRoadCuts));
+    CHECK(r.cuts[0] == doctest::Approx(60));  // the first cut where the edge starts to move
+    REQUIRE(build_convex_space(r, {}, params(), *space) == ConvexSpaceStatus::kOk);
+    REQUIRE(space->slices.size() == r.cuts.size() + 1);
+    const Zone& first = space->zones[static_cast<std::size_t>(space->start_zone)];
+    CHECK(first.slice == 0);
+    CHECK(first.l_min == doctest::Approx(-1.75));
+    CHECK(first.s_end == doctest::Approx(60));
+    // Every slice is a rectangle inside the road over its whole length, and
+    // the slices along the taper lose less than the taper's 3.5 m.
+    for (const Zone& z : space->zones) {
+      CHECK(z.l_min >= r.right.max_over(z.s_begin, z.s_end) - 1e-9);
+      CHECK(z.l_max <= r.left.min_over(z.s_begin, z.s_end) + 1e-9);
+      if (z.s_begin >= 60 - 1e-9 && z.s_end <= 90 + 1e-9) {
+        CHECK(r.right.max_over(z.s_begin, z.s_end) - r.right.min_over(z.s_begin, z.s_end) < 1.0);
+      }
+    }
+    // The ego's zone links through to the end (the left lane stays open).
+    int slice = 0;
+    int zone = space->start_zone;
+    while (space->zones[static_cast<std::size_t>(zone)].successors != 0u) {
+      const Zone& z = space->zones[static_cast<std::size_t>(zone)];
+      int bit = 0;
+      while (((z.successors >> bit) & 1u) == 0u) ++bit;
+      zone = space->slices[static_cast<std::size_t>(slice + 1)].first_zone + bit;
+      ++slice;
+    }
+    CHECK(slice == static_cast<int>(space->slices.size()) - 1);
+  }
+}
+
+TEST_CASE("road cuts: none for constant or barely varying edges, never more than the budget") {
+  RoadSl r = road(-1.75, 5.25);
+  select_road_cuts(r, 0, 100, 0.1, 4.0);
+  CHECK(r.cuts.empty());
+  // A noisy edge (+-3 cm, as a recorded map) loses less than the tolerance.
+  r.left = LateralProfile{};
+  for (int k = 0; k < 32; ++k) {
+    REQUIRE(r.left.add(4.0 * k, 5.25 + ((k % 2) != 0 ? 0.03 : -0.02)));
+  }
+  select_road_cuts(r, 0, 100, 0.1, 4.0);
+  CHECK(r.cuts.empty());
+  // A zig-zag of 1 m every 4 m: the budget, cuts ascending inside the horizon
+  // and at least 4 m apart.
+  r.left = LateralProfile{};
+  for (int k = 0; k < 32; ++k) {
+    REQUIRE(r.left.add(4.0 * k, 5.25 + ((k % 2) != 0 ? 1.0 : 0.0)));
+  }
+  select_road_cuts(r, 0, 100, 0.1, 4.0);
+  CHECK(r.cuts.size() == static_cast<std::size_t>(itp::DefaultConfig::kMaxRoadCuts));
+  Scalar last = 0;
+  for (const Scalar c : r.cuts) {
+    CHECK(c > last + 4.0 - 1e-9);
+    CHECK(c < 100 - 4.0 + 1e-9);
+    last = c;
+  }
+}
+
+TEST_CASE("a box ending just ahead of the ego ends there, not at the next cut") {
+  // A car behind in the left lane whose sweep ends 1.7 m ahead of the ego. Cuts
+  // closer than 2 m merge, and dropping that one stretched the box over the
+  // whole next slice (to the next obstacle 34 m ahead): the ego's corridor was
+  // its lane's right part for 34 m although it stood beside it.
+  const std::vector<SlBox> boxes{box(-12, 1.7, 1.2, 4.3, 1), box(34, 44, 4.9, 7.7, 2)};
+  auto space = std::make_unique<ConvexSpace>();
+  REQUIRE(build_convex_space(road(-1.4, 7.7), boxes, params(0.3), *space) == ConvexSpaceStatus::kOk);
+  REQUIRE(space->slices.size() >= 3);
+  CHECK(space->slices[0].s_end == doctest::Approx(1.7));
+  CHECK(space->slices[1].s_begin == doctest::Approx(1.7));
+  CHECK(space->slices[1].s_end == doctest::Approx(34));
+  REQUIRE(space->slices[1].zone_count == 1);
+  const Zone& free = space->zones[static_cast<std::size_t>(space->slices[1].first_zone)];
+  CHECK(free.l_min == doctest::Approx(-1.4));
+  CHECK(free.l_max == doctest::Approx(7.7));
+}

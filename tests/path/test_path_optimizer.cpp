@@ -124,3 +124,25 @@ TEST_CASE("repeated solves hotstart and give the same answer") {
     CHECK(f.result.knots[i] == doctest::Approx(first.knots[i]).epsilon(1e-7).scale(1.0));
   }
 }
+
+TEST_CASE("a start a few micrometres outside the corridor (on the last path, between its samples) is feasible") {
+  // A stitched start lies on the previous plan's path, which the QP left on
+  // its active corridor bound: between that path's samples it can be a few
+  // micrometres outside. Getting the front bumper back in needs a turn
+  // towards the corridor, which first swings the rear bumper out, so with the
+  // corridor rows exact at the first samples the QP was infeasible (a narrow
+  // lane at 26 m/s stopped on an empty road: path_qp_failed every few cycles).
+  Fixture f;
+  PathInput in;
+  in.l0 = 2e-6;  // the corridor [-4.9, 0.95] leaves the centre l <= 0
+  f.run(road(-4.9, 0.95), {}, in);
+  REQUIRE(itp::qp::is_usable(f.result.status));
+  // Back inside from the second block on, and never further out than the start.
+  for (double s = 0.25; s <= in.length; s += 0.25) {
+    const double front = f.result.eval(s, 0) + in.front_reach * f.result.eval(s, 1);
+    const double rear = f.result.eval(s, 0) - in.rear_reach * f.result.eval(s, 1);
+    const double limit = s >= 5.0 ? 1e-7 : 0.01;
+    CHECK(front <= limit);
+    CHECK(rear <= limit);
+  }
+}

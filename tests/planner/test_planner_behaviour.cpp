@@ -241,3 +241,89 @@ TEST_CASE("consecutive plans keep the side on which they pass a moving obstacle"
   REQUIRE(r.status == itp::PlanStatus::kOk);
   CHECK(decision_for(*r.plan, 5).lateral == first);
 }
+
+namespace {
+
+// Every corner of the ego inside the road's edges (tables included), with the
+// tracking tolerance of check_limits.
+void check_inside_road(const Scene& s, const Plan& p) {
+  const double half = 0.5 * s.ego.geometry.width;
+  for (const TrajectoryPoint& q : p.trajectory) {
+    CHECK(q.l + half <= s.road.left.at(q.s) + 0.2);
+    CHECK(q.l - half >= s.road.right.at(q.s) - 0.2);
+  }
+}
+
+void add_edge_point(Boundary& b, double s, double l) {
+  BoundaryPoint p;
+  p.s = s;
+  p.l = l;
+  REQUIRE(b.table.push_back(p));
+}
+
+}  // namespace
+
+TEST_CASE("the road's width changes ahead: the ego plans through, the narrowing does not stop it") {
+  // The convex space was cut in s only at obstacles, so on a road without
+  // obstacles one slice spanned the horizon and took the narrowest road over
+  // it: a lane ending or a narrowing far ahead excluded the ego's own position
+  // and every path QP failed (path_qp_failed, a stop on an empty road).
+  Run r;
+  SUBCASE("the ego's lane ends 60-110 m ahead, the left lane is free") {
+    Scene s = road_scene(1, 0, 0, 300);
+    s.ego.state.v = 15;
+    add_edge_point(s.road.right, 0, -1.75);
+    add_edge_point(s.road.right, 60, -1.75);
+    add_edge_point(s.road.right, 110, 1.75);
+    s.road.target_lane_offset = 3.5;
+    r.go(s);
+    REQUIRE(r.status == itp::PlanStatus::kOk);
+    check_inside_road(s, *r.plan);
+    CHECK(r.plan->trajectory.back().v > 12.0);
+    // In the left lane before the right edge reaches it.
+    for (const TrajectoryPoint& q : r.plan->trajectory) {
+      if (q.s > 110) CHECK(q.l > 1.75 + 0.5 * s.ego.geometry.width);
+    }
+  }
+  SUBCASE("roadworks narrow the ego's lane by 0.8 m at its left edge 90 m ahead, the right lane is free") {
+    Scene s = road_scene(0, 1, 0, 300);
+    s.ego.state.v = 15;
+    add_edge_point(s.road.left, 0, 1.75);
+    add_edge_point(s.road.left, 90, 1.75);
+    add_edge_point(s.road.left, 100, 0.95);
+    r.go(s);
+    REQUIRE(r.status == itp::PlanStatus::kOk);
+    check_inside_road(s, *r.plan);
+    CHECK(r.plan->trajectory.back().v > 12.0);
+    CHECK(r.plan->trajectory[10].l == doctest::Approx(0.0).scale(1.0).epsilon(0.1));  // no jump at the start
+  }
+}
+
+TEST_CASE("an oncoming car in its own lane of a narrow two-way road: no yield, no braking") {
+  // Lanes of 2.76 m, the ego 2.0 m wide at 19.5 m/s in the right lane, an
+  // oncoming car (1.85 m) at 20.5 m/s in the left lane: 0.83 m between them
+  // when both keep their lanes. Its box (0.5 m margin) was pushed 0.2 m
+  // towards the ego to fit inside the road's edges less the road margin, and
+  // the ST graph tested the path with 0.3 m more on top: the path met it in
+  // its own lane, and an ok plan "yielded" to it at -6 m/s².
+  Scene s = road_scene(1, 0, 0, 400);
+  s.road.lane_width = 2.76;
+  s.road.right.offset = -1.38;
+  s.road.left.offset = 1.38 + 2.76;
+  s.road.speed_limit = 23.1;
+  s.ego.geometry.length = 5.0;
+  s.ego.geometry.width = 2.0;
+  s.ego.geometry.wheelbase = 3.0;
+  s.ego.state.v = 19.5;
+  add_mover(s, 102, 160, 2.76, M_PI, 20.5, 4.41, 1.85);
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  CHECK(decision_for(*r.plan, 102).longitudinal != itp::speed::Longitudinal::kYield);
+  CHECK(min_clearance(s, *r.plan) >= 0.5);
+  for (const TrajectoryPoint& q : r.plan->trajectory) {
+    CHECK(q.a >= -1.0);
+    CHECK(q.l + 1.0 <= 1.38 + 0.05);  // in its own lane
+  }
+}

@@ -26,7 +26,7 @@ using CompactRun = PlanRun<CompactConfig>;
 TEST_CASE("configuration: the compact planner's memory follows its sizes") {
   static_assert(CompactConfig::kTrajectorySamples == 51, "5 s every 0.1 s");
   static_assert(CompactConfig::kPathVariables == 39 && CompactConfig::kSpeedVariables == 33);
-  static_assert(CompactConfig::kMaxObstacles == 6 && CompactConfig::kMaxSlices == 13);
+  static_assert(CompactConfig::kMaxObstacles == 6 && CompactConfig::kMaxSlices == 17);
   CHECK(sizeof(CompactPlanner) < sizeof(itp::planner::Planner) / 2);
   CHECK(sizeof(CompactScene) < sizeof(itp::scene::Scene));
   MESSAGE("sizeof planner: default " << sizeof(itp::planner::Planner) << " B, compact "

@@ -87,6 +87,58 @@ TEST_CASE("SL scene: movers are classified where first seen (oncoming, crossing,
   CHECK(sl->motions()[3][10].x == doctest::Approx(45).epsilon(1e-9));
 }
 
+TEST_CASE("SL scene: a car behind the reference line's start on a bend keeps its lane") {
+  // A left bend of R = 250 m starting at the reference line's first point; a
+  // car 15 m behind that point in the left lane (on the bend's continuation)
+  // at 15 m/s, predicted at constant velocity. Behind the line's start the
+  // frame runs straight, so the car's heading differs from the road's where
+  // its straight-line prediction reaches the line by the bend (3.5 deg), not
+  // by a lane change: it must not be predicted into the ego's lane.
+  const double radius = 250;
+  Scene s = road_scene(1, 0, radius, 200);
+  s.ego.state.x = radius * std::sin(40.0 / radius);
+  s.ego.state.y = radius * (1 - std::cos(40.0 / radius));
+  s.ego.state.heading = 40.0 / radius;
+  const double r_lane = radius - 3.5;
+  const double phi = -15.0 / r_lane;
+  add_mover(s, 21, r_lane * std::sin(phi), radius - r_lane * std::cos(phi), phi, 15);
+  Fitted f(s);
+  auto sl = std::make_unique<BasicSlScene<Cfg>>();
+  sl->build(s, *f.line, 0, 40, 150, kSettings);
+  REQUIRE(sl->motions().size() == 1);
+  for (std::size_t k = 10; k < static_cast<std::size_t>(Cfg::kStSamples); k += 10) {
+    const auto& m = sl->motions()[0][k];
+    REQUIRE(m.present);
+    const auto fr = f.line->to_frenet(itp::geometry::Point2{m.x, m.y});
+    CHECK(fr.l > 2.5);  // its lane [1.75, 5.25]; the ego's lane ends at 1.75
+  }
+}
+
+TEST_CASE("SL scene: a car whose body fits the road keeps its box where it is") {
+  // Narrow two-way road (lanes 2.76 m, edges -1.38 / 4.14); an oncoming car
+  // (1.85 m) in the left lane's centre. Its box with the 0.5 m margin reaches
+  // 0.05 m beyond the edge, its body does not: it is not moved. Kept inside
+  // the edges less the road margin, it was pushed 0.2 m towards the ego.
+  Scene s = road_scene(1, 0);
+  s.road.lane_width = 2.76;
+  s.road.right.offset = -1.38;
+  s.road.left.offset = 4.14;
+  add_mover(s, 102, 80, 2.76, M_PI, 10, 4.41, 1.85);
+  // ... and a car that does stick out over the left edge by 0.3 m: its body
+  // is moved back inside the real edge.
+  add_mover(s, 103, 120, 4.14 - 0.925 + 0.3, M_PI, 10, 4.41, 1.85);
+  Fitted f(s);
+  auto sl = std::make_unique<BasicSlScene<Cfg>>();
+  sl->build(s, *f.line, 0, 0, 100, kSettings);
+  REQUIRE(sl->tracks().size() == 2);
+  for (std::size_t k = 0; k < static_cast<std::size_t>(Cfg::kStSamples); k += 10) {
+    const auto& b = sl->tracks()[0].box[k];
+    CHECK(b.l_min == doctest::Approx(2.76 - 0.925 - kSettings.dynamic_margin).epsilon(1e-3));
+    const auto& c = sl->tracks()[1].box[k];
+    CHECK(c.l_max - kSettings.dynamic_margin == doctest::Approx(4.14).epsilon(1e-3));
+  }
+}
+
 TEST_CASE("SL scene: a leader is placed where the guessed ego motion meets it, the crossing mover never") {
   Scene s = road_scene(1, 0);
   add_mover(s, 12, 60, -3, M_PI / 2, 1.2, 0.8, 0.8);  // crossing: the ST graph's only

@@ -96,6 +96,10 @@ struct DefaultSizes {
   static constexpr int kMaxStaticObstacles = 10;
   static constexpr int kMaxDynamicObstacles = 5;
   static constexpr int kMaxPredictionSamples = 80;  // poses per dynamic obstacle
+  // Convex space: extra slice edges where the road's edges change (a
+  // narrowing, a lane that ends), beside the obstacles' edges. Without them a
+  // slice free of obstacles takes the narrowest road over its whole length.
+  static constexpr int kMaxRoadCuts = 8;
 
   // Convex space and decision (paper 1.1)
   // The objects that take part in the decision stage, at most (the paper's
@@ -128,7 +132,7 @@ struct DefaultSizes {
 
   // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
   // time in planner.cpp on every target; docs/performance.md, "Memory").
-  static constexpr unsigned long kPlannerBytesBudget = 340000;
+  static constexpr unsigned long kPlannerBytesBudget = 350000;
 };
 
 template <class Sizes>
@@ -150,8 +154,9 @@ struct Configuration : Sizes {
                                                ? Sizes::kDecisionDynamicObstacles
                                                : kMaxDynamicObstacles;
   static constexpr int kMaxDecisionObstacles = kDecisionStatics + kDecisionDynamics;
-  // Each SL box contributes at most two cuts in s, hence at most 2N+1 slices.
-  static constexpr int kMaxSlices = 2 * kMaxDecisionObstacles + 1;
+  // Each SL box contributes at most two cuts in s, the road's edges at most
+  // kMaxRoadCuts, hence at most 2N + 1 + kMaxRoadCuts slices.
+  static constexpr int kMaxSlices = 2 * kMaxDecisionObstacles + 1 + Sizes::kMaxRoadCuts;
   static constexpr int kMaxZonesPerSlice = kMaxDecisionObstacles + 1;  // gaps between N intervals
   static constexpr int kMaxZones = kMaxSlices * kMaxZonesPerSlice;
   static constexpr int kKnotStates = 3;  // (value, 1st, 2nd derivative) per knot
@@ -182,7 +187,7 @@ struct Configuration : Sizes {
                 "horizons too short to plan in");
   static_assert(kMaxReferencePoints >= 2 && Sizes::kMaxBoundaryPoints >= 1 &&
                     Sizes::kMaxPredictionSamples >= 1 && kMaxStaticObstacles >= 0 &&
-                    kMaxDynamicObstacles >= 0,
+                    kMaxDynamicObstacles >= 0 && Sizes::kMaxRoadCuts >= 0,
                 "bad scene capacities");
   static_assert(kMaxZonesPerSlice <= 16, "zone successors are a 16-bit mask");
   static_assert(kMaxZones < 32767 && kMaxDecisionObstacles < 32767, "zone and box indices are int16");

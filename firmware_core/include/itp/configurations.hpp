@@ -17,6 +17,7 @@ struct CompactSizes : DefaultSizes {
   static constexpr Scalar kSpeedHorizon = Scalar(5);
   static constexpr int kMaxReferencePoints = 64;
   static constexpr int kMaxBoundaryPoints = 8;
+  static constexpr int kMaxRoadCuts = 4;
   static constexpr int kMaxStaticObstacles = 4;
   static constexpr int kMaxDynamicObstacles = 2;
   static constexpr int kMaxPredictionSamples = 60;
@@ -27,7 +28,7 @@ struct CompactSizes : DefaultSizes {
   static constexpr int kSpeedBlocks = 10;
   static constexpr int kMaxPlannerIterations = 4;
   static constexpr int kMaxPathSolvesPerCycle = 8;
-  static constexpr unsigned long kPlannerBytesBudget = 160000;
+  static constexpr unsigned long kPlannerBytesBudget = 165000;
 };
 using CompactConfig = Configuration<CompactSizes>;
 

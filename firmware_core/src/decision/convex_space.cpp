@@ -15,7 +15,7 @@ namespace {
 // zones that the path could never connect.
 constexpr Scalar kMinSliceLength = Scalar(2.0);  // [m]
 template <class Cfg>
-constexpr int kMaxCuts = 2 * Cfg::kMaxDecisionObstacles + 2;
+constexpr int kMaxCuts = 2 * Cfg::kMaxDecisionObstacles + 2 + Cfg::kMaxRoadCuts;
 
 bool finite_box(const SlBox& b) {
   return std::isfinite(b.s_min) && std::isfinite(b.s_max) && std::isfinite(b.l_min) &&
@@ -23,9 +23,10 @@ bool finite_box(const SlBox& b) {
 }
 
 
-// Sorted, de-duplicated cut positions in s: the slice edges.
+// Sorted, de-duplicated cut positions in s: the slice edges (the boxes'
+// ends and the road's cuts).
 template <class Cfg>
-int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
+int collect_cuts(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar s0, Scalar s1,
                  std::array<Scalar, kMaxCuts<Cfg>>& cuts) {
   int n = 0;
   cuts[static_cast<std::size_t>(n++)] = s0;
@@ -35,6 +36,11 @@ int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
       if (e > s0 && e < s1) {
         cuts[static_cast<std::size_t>(n++)] = e;
       }
+    }
+  }
+  for (const Scalar e : road.cuts) {  // <= kMaxRoadCuts
+    if (e > s0 && e < s1) {
+      cuts[static_cast<std::size_t>(n++)] = e;
     }
   }
   cuts[static_cast<std::size_t>(n++)] = s1;
@@ -51,6 +57,13 @@ int collect_cuts(std::span<const SlBox> boxes, Scalar s0, Scalar s1,
   for (int i = 1; i < n; ++i) {  // <= kMaxCuts
     const Scalar v = cuts[static_cast<std::size_t>(i)];
     if (v - cuts[static_cast<std::size_t>(kept - 1)] >= kMinSliceLength) {
+      cuts[static_cast<std::size_t>(kept++)] = v;
+    } else if (kept == 1 && v > cuts[0]) {
+      // The first cut stays too: the ego is already in the first slice (no
+      // lateral move needed within it). Dropping a box's end just ahead of
+      // the ego instead stretched the box over the whole next slice (a car
+      // behind in the next lane whose sweep ends 1.7 m ahead narrowed the
+      // ego's corridor for 34 m, and the ego stood outside it).
       cuts[static_cast<std::size_t>(kept++)] = v;
     } else if (i == n - 1) {
       // The horizon end always stays. Dropping the cut before it instead
@@ -229,7 +242,7 @@ ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<con
     }
   }
   std::array<Scalar, kMaxCuts<Cfg>> cuts{};
-  const int n_cuts = collect_cuts<Cfg>(boxes, params.s_start, params.s_end, cuts);
+  const int n_cuts = collect_cuts<Cfg>(road, boxes, params.s_start, params.s_end, cuts);
   for (int i = 0; i + 1 < n_cuts; ++i) {  // < kMaxSlices
     const Scalar sa = cuts[static_cast<std::size_t>(i)];
     const Scalar sb = cuts[static_cast<std::size_t>(i + 1)];

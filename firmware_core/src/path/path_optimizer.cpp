@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "itp/configurations.hpp"
+#include "itp/core/scalar_math.hpp"
 #include "itp/decision/corridor.hpp"
 #include "itp/spline/quintic_block.hpp"
 
@@ -11,6 +12,14 @@ namespace itp::path {
 namespace {
 
 int var(int knot, int state) { return 3 * knot + state; }
+
+// In the first block the corridor rows also admit the bumpers where the start
+// state puts them (their lateral offsets at s0, linear in the heading), with
+// this much room: a stitched start lies on the previous path, which a QP
+// leaves on its active corridor bound, so between that path's samples it can
+// be a few micrometres outside the corridor. Turning back in moves the rear
+// bumper outwards first, so without the room that start was infeasible.
+constexpr Scalar kStartSlack = Scalar(0.01);  // [m]
 
 template <class Cfg>
 Scalar kappa_ref_at(const BasicPathInput<Cfg>& in, Scalar s) {
@@ -114,6 +123,11 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
         problem.uba[row + end] = at_start ? inf : c.hi - half_width;
         if (problem.lba[row + end] > problem.uba[row + end]) {  // just the vehicle's width: its middle
           problem.lba[row + end] = problem.uba[row + end] = c.mid();
+        }
+        if (b == 0 && !at_start) {
+          const Scalar now = end == 0 ? in.l0 + in.front_reach * in.dl0 : in.l0 - in.rear_reach * in.dl0;
+          problem.lba[row + end] = min_of(problem.lba[row + end], now - kStartSlack);
+          problem.uba[row + end] = max_of(problem.uba[row + end], now + kStartSlack);
         }
       }
       problem.lba[row + 2] = at_start ? -inf : -in.dl_max;

@@ -64,11 +64,13 @@ PredictionUse predict_along_road(const geometry::BasicReferenceLine<Cfg>& line,
   // frame runs straight on, not along the road: no road to follow there).
   // Samples before it stay as given.
   int first = -1;
+  int first_present = -1;
   geometry::CurveSample foot;
   geometry::FrenetPoint f0;
   for (int k = 0; k < Cfg::kStSamples && first < 0; ++k) {  // Cfg::kStSamples
     const scene::ObstacleSample& q = out[static_cast<std::size_t>(k)];
     if (q.present) {
+      first_present = first_present < 0 ? k : first_present;
       f0 = line.to_frenet(geometry::Point2{q.x, q.y}, foot);
       if (f0.s >= 0 && f0.s <= line.length()) {
         first = k;
@@ -90,7 +92,14 @@ PredictionUse predict_along_road(const geometry::BasicReferenceLine<Cfg>& line,
   const Scalar v_s = p0.v * std::cos(rel0);  // [m/s] along the reference (< 0: oncoming)
   Scalar v_l = p0.v * std::sin(rel0);        // [m/s] sideways
   Scalar l_end = f0.l;                       // where the sideways motion ends
-  if (std::fabs(v_l) >= kLaneChangeSpeed) {
+  // Seen first behind the reference line's start (traffic behind the ego's
+  // window), the obstacle's heading is compared with the road where its
+  // straight-line extrapolation reaches the line, not where it is: on a curve
+  // that difference is the bend, not a lane change (a car 50 m behind in the
+  // next lane of a 264 m bend read as moving sideways at 0.5 m/s into the
+  // ego's lane, whose sweep then covered the ego). It keeps its offset.
+  const bool seen_on_line = first == first_present;
+  if (std::fabs(v_l) >= kLaneChangeSpeed && seen_on_line) {
     l_end = clamp(lane_change_target(f0.l, v_l, road.target_lane_offset, road.lane_width), right, left);
     if ((l_end - f0.l) * v_l <= 0) {
       v_l = 0;  // already at (or beyond) the edge it moves towards

@@ -85,10 +85,13 @@ void BasicSlScene<Cfg>::build(const Scene& scene, const ReferenceLine& line, Sca
   s_start_ = s_start;
   ego_l_ = line.to_frenet(geometry::Point2{scene.ego.state.x, scene.ego.state.y}).l;
   ego_v_ = scene.ego.state.v;
+  road_margin_ = settings.road_margin;
+  dynamic_margin_ = settings.dynamic_margin;
   road_.left = to_profile(scene.road.left, -settings.road_margin);
   road_.right = to_profile(scene.road.right, settings.road_margin);
   road_.lane_width = scene.road.lane_width;
   road_.target_lane_offset = scene.road.target_lane_offset;
+  decision::select_road_cuts(road_, s_start, s_end, settings.road_cut_tolerance, settings.road_cut_min_slice);
   project_statics(scene, line, s_end, settings.static_margin);
   project_dynamics(scene, line, now, settings.dynamic_margin);
 }
@@ -200,15 +203,21 @@ void BasicSlScene<Cfg>::project_dynamics(const Scene& scene, const ReferenceLine
 
 // Road users seen on the road stay on it: a constant-velocity prediction on a
 // curve runs off along the tangent, so its boxes are shifted back inside the
-// road edges (when they fit), where the road bends the real obstacle.
+// road edges (when they fit), where the road bends the real obstacle. The
+// obstacle's body (the box less the dynamic margin) stays inside the real
+// edges: the edges moved in by the road margin (the ego's tracking room) and
+// the margin-inflated box pushed a car in the outer lane of a narrow road
+// 0.2 m (0.15 + 0.5 - its room) towards the ego.
 template <class Cfg>
 void BasicSlScene<Cfg>::keep_on_road(Scalar s, geometry::SlBox& box) const {
-  const Scalar lo = road_.right.at(s);
-  const Scalar hi = road_.left.at(s);
-  if (box.l_max - box.l_min > hi - lo) {
+  const Scalar lo = road_.right.at(s) - road_margin_;
+  const Scalar hi = road_.left.at(s) + road_margin_;
+  const Scalar body_lo = box.l_min + dynamic_margin_;
+  const Scalar body_hi = box.l_max - dynamic_margin_;
+  if (body_hi - body_lo > hi - lo) {
     return;
   }
-  const Scalar shift = box.l_max > hi ? hi - box.l_max : (box.l_min < lo ? lo - box.l_min : Scalar(0));
+  const Scalar shift = body_hi > hi ? hi - body_hi : (body_lo < lo ? lo - body_lo : Scalar(0));
   box.l_min += shift;
   box.l_max += shift;
 }

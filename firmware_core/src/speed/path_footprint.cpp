@@ -63,8 +63,8 @@ void lateral_range(const path::BasicPathResult<Cfg>& path, LateralRange<Cfg>& r)
 
 template <class Cfg>
 bool path_conflicts(const path::BasicPathResult<Cfg>& path, const LateralRange<Cfg>& range, const BasicStParams<Cfg>& p,
-                    const geometry::SlBox& b) {
-  const Scalar reach = p.half_width + p.lateral_margin;
+                    const geometry::SlBox& b, Scalar lateral_margin) {
+  const Scalar reach = p.half_width + lateral_margin;
   if (path.h > 0) {
     const int k0 = block_at(path, b.s_min) - 1;  // one block of margin each side (the probes' rounding)
     const int k1 = block_at(path, b.s_max) + 1;
@@ -96,7 +96,7 @@ bool path_conflicts(const path::BasicPathResult<Cfg>& path, const LateralRange<C
   template Scalar speed_limit_at<C>(const path::BasicPathResult<C>&, const BasicStParams<C>&, Scalar); \
   template void lateral_range<C>(const path::BasicPathResult<C>&, LateralRange<C>&);              \
   template bool path_conflicts<C>(const path::BasicPathResult<C>&, const LateralRange<C>&,        \
-                                  const BasicStParams<C>&, const geometry::SlBox&);
+                                  const BasicStParams<C>&, const geometry::SlBox&, Scalar);
 ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
 #undef ITP_INSTANTIATE
 

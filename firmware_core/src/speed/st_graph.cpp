@@ -246,6 +246,13 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
   for (const DynamicTrack& tr : tracks) {  // <= kMaxDynamicObstacles
     StDecision d;
     d.id = tr.id;
+    // A sweep-occupied obstacle (oncoming, from behind) is a wall of the
+    // convex space over everything it covers: the path's corridor already
+    // keeps the ego's body out of its (margin-inflated) boxes, so the swept
+    // path is tested with no margin on top. With the margin, a path that
+    // keeps its lane on a narrow two-way road met every oncoming car in its
+    // own lane, and the ego braked at its limit to "yield" to it.
+    const Scalar lateral_margin = tr.sweep_occupied ? Scalar(0) : p.lateral_margin;
     Scalar prev_center = 0;
     bool have_prev = false;
     for (int k = 0; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
@@ -259,7 +266,7 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
       d.speed[u] = have_prev ? (center - prev_center) / kDt<Cfg> : Scalar(0);
       prev_center = center;
       have_prev = true;
-      if (path_conflicts(path, range, p, box)) {
+      if (path_conflicts(path, range, p, box, lateral_margin)) {
         d.conflict[u] = true;
         d.s_lo[u] = box.s_min - p.s0 - p.front - p.longitudinal_margin;
         d.s_hi[u] = box.s_max - p.s0 + p.rear + p.longitudinal_margin;

@@ -13,6 +13,12 @@ struct PlannerSettings {
   Scalar static_margin = Scalar(0.3);    // [m] SL inflation of static obstacles
   Scalar dynamic_margin = Scalar(0.5);   // [m] SL inflation of dynamic obstacles
   Scalar road_margin = Scalar(0.15);     // [m] kept from the road edges (tracking error)
+  // Convex space (decision::select_road_cuts): a stretch of the horizon is
+  // cut where the road's edges change when it loses more than this width to
+  // the change ...
+  Scalar road_cut_tolerance = Scalar(0.1);  // [m]
+  // ... and no road cut leaves a slice shorter than this.
+  Scalar road_cut_min_slice = Scalar(4.0);  // [m]
   Scalar comfort_decel = Scalar(-3.0);   // [m/s^2] planning braking limit (the scene's a_min is the hard one)
   Scalar comfort_accel = Scalar(2.0);    // [m/s^2] planning acceleration limit
   Scalar stop_margin = Scalar(2.0);      // [m] kept before a blocked corridor

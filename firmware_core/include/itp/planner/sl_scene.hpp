@@ -36,8 +36,8 @@ class BasicSlScene {
   // ST samples: every horizon / kSpeedSamples (0.1 s) over the speed horizon.
   static constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);  // [s]
 
-  // A validated scene at time `now`, the ego's rear axle at path s
-  // `s_start`, the SL horizon ending at `s_end`.
+  // A validated scene at time `now`, the ego's rear axle at path s `s_start`,
+  // the SL horizon ending at `s_end` (the road's cuts are chosen within it).
   void build(const Scene& scene, const ReferenceLine& line, Scalar now, Scalar s_start, Scalar s_end,
              const PlannerSettings& settings);
 
@@ -86,6 +86,8 @@ class BasicSlScene {
   Scalar ego_v_ = 0;    // [m/s]
   Scalar front_ = 0;    // [m]
   Scalar rear_ = 0;     // [m]
+  Scalar road_margin_ = 0;     // [m] road_'s edges lie this far inside the real ones
+  Scalar dynamic_margin_ = 0;  // [m] moving boxes are inflated by this
   // Static boxes (inflated in s by the ego's extents), then the dynamic ones
   // at their meeting places: the decision stage's.
   StaticVector<geometry::SlBox, Cfg::kMaxDecisionObstacles> boxes_;

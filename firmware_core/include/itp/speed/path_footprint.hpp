@@ -28,11 +28,11 @@ struct LateralRange {
 template <class Cfg>
 void lateral_range(const path::BasicPathResult<Cfg>& path, LateralRange<Cfg>& r);
 
-// Does the ego's swept path (half width + lateral margin each side) overlap
+// Does the ego's swept path (half width + `lateral_margin` each side) overlap
 // the box? Probes the path across the box's s-extent, unless l(s) over the
 // blocks there (`range`) cannot reach the box at all.
 template <class Cfg>
 bool path_conflicts(const path::BasicPathResult<Cfg>& path, const LateralRange<Cfg>& range,
-                    const BasicStParams<Cfg>& p, const geometry::SlBox& b);
+                    const BasicStParams<Cfg>& p, const geometry::SlBox& b, Scalar lateral_margin);
 
 }  // namespace itp::speed
