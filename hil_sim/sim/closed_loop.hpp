@@ -106,6 +106,7 @@ struct RunCommand {
   std::string report;                    // report/1 path ("" = none)
   std::string plots;                     // directory for SVGs and index.html ("" = none)
   std::string trace;                     // JSON Lines file, one object per cycle ("" = none)
+  std::string diagnostics;               // host / qemu: the firmware's Diagnostics after the run, JSON ("" = none)
   double duration = -1.0;                // [s] <= 0: each world's own
 };
 

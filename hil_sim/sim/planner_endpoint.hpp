@@ -4,8 +4,10 @@
 // framing, may pass the bytes through a loopback link); `host` and `qemu`
 // send a Scene message over the serial-like link to a firmware and decode
 // its Plan message (hil_sim/link/, docs/protocol.md).
+#include <optional>
 #include <string>
 
+#include "itp/link/messages.hpp"
 #include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
 
@@ -26,6 +28,9 @@ class PlannerEndpoint {
   // Plans one cycle at scene time `now` (the Scene's predictions are in scene time).
   virtual EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) = 0;
   virtual std::string name() const = 0;  // "inproc", "host", "qemu"
+  // The firmware's resource use (Diagnostics message); nullopt when the
+  // endpoint has no firmware or it did not answer.
+  virtual std::optional<itp::link::Diagnostics> diagnostics() { return std::nullopt; }
 };
 
 }  // namespace hil::sim

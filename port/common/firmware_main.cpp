@@ -38,6 +38,7 @@ void firmware_run() {
   g_service = ::new (g_service_storage) itp::app::FirmwareService();  // placement: no heap
   g_service->set_build_id(ITP_BUILD_ID);
   g_service->set_tick_source(itp::TickSource{&port::counter_ticks, port::counter_hz()});
+  g_service->set_stack_probe(itp::StackProbe{&port::stack_peak_bytes, port::stack_size_bytes()});
   port::log_line("itplan firmware " ITP_BUILD_ID " ready");
   std::array<std::uint8_t, 64> rx{};
   while (port::keep_running()) {  // the superloop: runs for the life of the device

@@ -41,6 +41,10 @@ inline constexpr std::uintptr_t kNvicIser0 = 0xE000E100u;
 inline constexpr std::uintptr_t kNvicIcpr0 = 0xE000E280u;
 inline constexpr std::uint32_t kUart0RxIrqBit = 1u << 0;
 
+// Start-up paints every free stack word with this pattern; the first word
+// from the bottom that differs marks the deepest use (docs/memory.md).
+inline constexpr std::uint32_t kStackPaint = 0x5AC4C0DEu;
+
 inline CmsdkUart& uart0() { return *reinterpret_cast<CmsdkUart*>(kUart0Base); }
 inline CmsdkUart& uart1() { return *reinterpret_cast<CmsdkUart*>(kUart1Base); }
 inline CmsdkTimer& timer0() { return *reinterpret_cast<CmsdkTimer*>(kTimer0Base); }

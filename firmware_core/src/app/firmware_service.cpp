@@ -29,6 +29,15 @@ std::span<const std::uint8_t> FirmwareService::dispatch(const link::FrameView& f
       pong.tick_hz = ticks_.hz;
       return reply(link::MessageType::kPong, seq, link::encode(pong, payload_));
     }
+    case link::MessageType::kDiagnosticsRequest: {
+      if (!frame.payload.empty()) {
+        break;
+      }
+      link::Diagnostics diag;
+      diag.stack_bytes = stack_.size_bytes;
+      diag.stack_peak_bytes = stack_.peak();
+      return reply(link::MessageType::kDiagnosticsReply, seq, link::encode(diag, payload_));
+    }
     case link::MessageType::kPlanRequest: {
       const std::size_t n = plan_cycle(frame.payload);
       if (n == 0) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <span>
 
+#include "itp/core/stack_probe.hpp"
 #include "itp/core/tick_source.hpp"
 #include "itp/link/frame_decoder.hpp"
 #include "itp/planner/planner.hpp"
@@ -17,6 +18,11 @@ namespace itp::app {
 
 class FirmwareService {
  public:
+  // The planner configuration this firmware is built for.
+  using Config = DefaultConfig;
+  // QpSolve service: the largest planner QP shape (the path QP).
+  using TargetQpDims = qp::PathQpDims<Scalar, Config>;
+
   // The firmware constructs it in place in zeroed static storage (.bss).
   FirmwareService() = default;
   // `build_id` must outlive the service (a string literal in practice).
@@ -26,6 +32,9 @@ class FirmwareService {
     ticks_ = source;
     planner_.set_tick_source(source);
   }
+
+  // The port's stack measurement, reported in the Diagnostics reply.
+  void set_stack_probe(StackProbe probe) { stack_ = probe; }
 
   // Feeds one received byte. Returns the encoded reply frame to send (a view
   // into an internal buffer, valid until the next call), or an empty span.
@@ -43,16 +52,13 @@ class FirmwareService {
 
   const char* build_id_ = nullptr;
   TickSource ticks_{};
+  StackProbe stack_{};
   link::FrameDecoder decoder_;
   std::array<std::uint8_t, config::kMaxPayloadBytes> payload_{};   // reply body
   std::array<std::uint8_t, link::kMaxWireFrameBytes> tx_{};          // encoded reply
   std::uint32_t replies_ = 0;
 
-  // The planner configuration this firmware is built for.
-  using Config = DefaultConfig;
-
   // QpSolve service: the largest planner QP shape (the path QP).
-  using TargetQpDims = qp::PathQpDims<Scalar, Config>;
   qp::QpProblem<TargetQpDims> qp_problem_{};
   qp::QpWorkspace<TargetQpDims> qp_workspace_{};
   qp::QpResult<TargetQpDims> qp_result_{};

@@ -33,6 +33,8 @@ enum class MessageType : std::uint8_t {
   kQpSolveReply = 0x11,
   kPlanRequest = 0x20,  // host -> firmware: a Scene; plan one cycle
   kPlanReply = 0x21,    // firmware -> host: the Plan
+  kDiagnosticsRequest = 0x30,  // host -> firmware: report resource use (empty body)
+  kDiagnosticsReply = 0x31,    // firmware -> host: Diagnostics
   kError = 0x7F,  // reply to a request the firmware cannot serve
 };
 
