@@ -6,10 +6,14 @@ SHELL := /bin/bash
 # libstdc++-arm-none-eabi-newlib: the Cortex-M7 build's C++ headers (<array>, ...);
 # gcc-arm-none-eabi alone is C only.
 DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-none-eabi \
-                   libstdc++-arm-none-eabi-newlib \
+                   libstdc++-arm-none-eabi-newlib python3 \
                    qemu-system-arm libeigen3-dev doctest-dev nlohmann-json3-dev \
                    libcli11-dev libfmt-dev libbenchmark-dev libpugixml-dev
 FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
+# The RAM budget lives in port/mps2_an500/ram_budget.ld (linker, static_assert
+# and `make size` read the same number); `make size RAM_BUDGET=...` overrides
+# it for the report only.
+RAM_BUDGET ?=
 HIL_SIM := build/host-release/hil_sim/hil_sim
 # make sim SIM_TARGET=inproc SIM_COUNT=20 for a quick run; the default is the
 # 200-scene suite on the Cortex-M7 firmware under QEMU (about 15 minutes),
@@ -21,13 +25,15 @@ SIM_COUNT ?= 200
 SIM_COMPARE ?= host
 SIM_OUT ?= build/sim
 
-.PHONY: help deps test sim host-debug host-release cortex-m7 size clean
+.PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean
 
 help:
 	@echo "make sim    - build everything and run the simulator against the Cortex-M7 firmware under QEMU"
-	@echo "make test   - host-debug (ASan+UBSan) tests, cortex-m7 build + size report, host-release tests incl. QEMU"
+	@echo "make test   - host-debug (ASan+UBSan) tests, cortex-m7 build + size and stack checks, host-release tests incl. QEMU"
 	@echo "make deps   - install missing Debian packages (idempotent; needs root)"
-	@echo "make size   - ARM size report (text, data, bss) of the firmware"
+	@echo "make size   - ARM RAM by module (planner stages, QP, scene, plan, link, stack), fails over the RAM budget"
+	@echo "make stack  - worst-case stack path from the call graph (-fstack-usage), fails on recursion,"
+	@echo "              dynamic frames, unresolved indirect calls or a linker-script stack below bound + margin"
 
 deps:
 	@missing=""; \
@@ -57,11 +63,18 @@ size: cortex-m7
 	@echo "== ARM size report: $(FIRMWARE_ELF)"
 	@arm-none-eabi-size -A -d $(FIRMWARE_ELF) | grep -E "^(section|\.isr_vector|\.text|\.data|\.bss|\.stack)"
 	@arm-none-eabi-size $(FIRMWARE_ELF)
+	python3 tools/size_report.py --elf $(FIRMWARE_ELF) $(if $(RAM_BUDGET),--budget $(RAM_BUDGET))
+
+# The cortex-m7 build writes .su/.ci files next to its objects (ITP_STACK_USAGE).
+stack: cortex-m7
+	@echo "== Stack analysis: $(FIRMWARE_ELF)"
+	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(FIRMWARE_ELF) --json build/cortex-m7/stack_analysis.json
 
 test: deps
 	$(MAKE) --no-print-directory host-debug
 	ctest --preset host-debug
 	$(MAKE) --no-print-directory size
+	$(MAKE) --no-print-directory stack
 	$(MAKE) --no-print-directory host-release
 	ctest --preset host-release
 
