@@ -5,15 +5,21 @@ SHELL := /bin/bash
 
 # libstdc++-arm-none-eabi-newlib: the Cortex-M7 build's C++ headers (<array>, ...);
 # gcc-arm-none-eabi alone is C only.
+# libssl-dev: OpenSSL's HMAC, the tests' independent check of the link's MAC.
+# clang + libclang-rt-14-dev: libFuzzer and the sanitizers for tests/fuzz
+# (libclang-rt is only recommended by clang, and deps installs no recommends).
 DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-none-eabi \
                    libstdc++-arm-none-eabi-newlib python3 \
                    qemu-system-arm libeigen3-dev doctest-dev nlohmann-json3-dev \
-                   libcli11-dev libfmt-dev libbenchmark-dev libpugixml-dev
+                   libcli11-dev libfmt-dev libbenchmark-dev libpugixml-dev libssl-dev \
+                   clang libclang-rt-14-dev
 FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
 # The RAM budget lives in port/mps2_an500/ram_budget.ld (linker, static_assert
 # and `make size` read the same number); `make size RAM_BUDGET=...` overrides
 # it for the report only.
 RAM_BUDGET ?=
+# The test image (QP-check service), used by the QEMU QP agreement test only.
+TEST_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_qp_check.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim
 # make sim SIM_TARGET=inproc SIM_COUNT=20 for a quick run; the default is the
 # 200-scene suite on the Cortex-M7 firmware under QEMU (about 15 minutes),
@@ -25,15 +31,20 @@ SIM_COUNT ?= 200
 SIM_COMPARE ?= host
 SIM_OUT ?= build/sim
 
-.PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean
+# make fuzz FUZZ_SECONDS=600: every fuzz target for that long (tests/fuzz/run_fuzzers.sh).
+FUZZ_SECONDS ?= 60
+
+.PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean fuzz fuzz-build
 
 help:
 	@echo "make sim    - build everything and run the simulator against the Cortex-M7 firmware under QEMU"
-	@echo "make test   - host-debug (ASan+UBSan) tests, cortex-m7 build + size and stack checks, host-release tests incl. QEMU"
+	@echo "make test   - host-debug (ASan+UBSan) tests, cortex-m7 build + size and stack checks,"
+	@echo "              host-release tests incl. QEMU, the fuzz targets on their seed corpus"
 	@echo "make deps   - install missing Debian packages (idempotent; needs root)"
-	@echo "make size   - ARM RAM by module (planner stages, QP, scene, plan, link, stack), fails over the RAM budget"
+	@echo "make size   - ARM RAM by module (planner stages, scene, plan, link, stack), fails over the RAM budget"
 	@echo "make stack  - worst-case stack path from the call graph (-fstack-usage), fails on recursion,"
 	@echo "              dynamic frames, unresolved indirect calls or a linker-script stack below bound + margin"
+	@echo "make fuzz   - run every libFuzzer target for FUZZ_SECONDS seconds (default 60)"
 
 deps:
 	@missing=""; \
@@ -55,15 +66,24 @@ cortex-m7:
 	cmake --preset cortex-m7
 	cmake --build --preset cortex-m7
 
+fuzz-build:
+	cmake --preset fuzz
+	cmake --build --preset fuzz
+
+fuzz: deps fuzz-build
+	tests/fuzz/run_fuzzers.sh build/fuzz/tests/fuzz -max_total_time=$(FUZZ_SECONDS)
+
 host-release: cortex-m7
 	cmake --preset host-release
 	cmake --build --preset host-release
 
 size: cortex-m7
-	@echo "== ARM size report: $(FIRMWARE_ELF)"
+	@echo "== ARM size report: $(FIRMWARE_ELF) (production image)"
 	@arm-none-eabi-size -A -d $(FIRMWARE_ELF) | grep -E "^(section|\.isr_vector|\.text|\.data|\.bss|\.stack)"
-	@arm-none-eabi-size $(FIRMWARE_ELF)
+	@arm-none-eabi-size $(FIRMWARE_ELF) $(TEST_FIRMWARE_ELF)
 	python3 tools/size_report.py --elf $(FIRMWARE_ELF) $(if $(RAM_BUDGET),--budget $(RAM_BUDGET))
+	@echo "== The test image (QP check; never flashed, no budget): $(TEST_FIRMWARE_ELF)"
+	set -o pipefail; python3 tools/size_report.py --elf $(TEST_FIRMWARE_ELF) --no-budget | grep -E "^(RAM by|  QP-check|total)"
 
 # The cortex-m7 build writes .su/.ci files next to its objects (ITP_STACK_USAGE).
 stack: cortex-m7
@@ -77,6 +97,8 @@ test: deps
 	$(MAKE) --no-print-directory stack
 	$(MAKE) --no-print-directory host-release
 	ctest --preset host-release
+	$(MAKE) --no-print-directory fuzz-build
+	ctest --preset fuzz
 
 sim: deps host-release
 	$(HIL_SIM) ping --target qemu --firmware $(FIRMWARE_ELF) --count 3 --garbage

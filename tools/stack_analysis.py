@@ -7,7 +7,8 @@ The cross build compiles every object with `-fstack-usage -fcallgraph-info=su`
   X.ci  the object's call graph in VCG text: one node per function (its
         frame size and qualifier in the label), one edge per call site, and
         calls through a pointer as edges to "__indirect_call".
-This tool reads all of them, builds the call graph, and computes the deepest
+This tool reads all of them (but another firmware image's own objects:
+CMakeFiles/X.dir next to X.elf), builds the call graph, and computes the deepest
 path from Reset_Handler and from every other handler in the ELF's vector
 table. It fails (exit 1), naming the culprit, on
   - recursion (a cycle reachable from a root),
@@ -378,12 +379,23 @@ class Graph:
 # --------------------------------------------------------------------------
 
 
-def collect(build):
+def other_image(root, d, elf):
+    """True for CMakeFiles/X.dir of another firmware image: X.elf next to
+    CMakeFiles, X not the analysed ELF's stem (each image compiles its own
+    start-up, port and image objects; both define firmware_run)."""
+    if os.path.basename(root) != "CMakeFiles" or not d.endswith(".dir"):
+        return False
+    target = d[:-len(".dir")]
+    stem = os.path.splitext(os.path.basename(elf))[0]
+    return target != stem and os.path.exists(os.path.join(os.path.dirname(root), target + ".elf"))
+
+
+def collect(build, elf):
     ci_files, su_files = [], []
     for root, dirs, files in os.walk(build):
         # Header self-containment checks compile each header alone; they are
-        # not linked into any image.
-        dirs[:] = [d for d in dirs if "header_check" not in d]
+        # not linked into any image. Other images' own objects are not in this one.
+        dirs[:] = [d for d in dirs if "header_check" not in d and not other_image(root, d, elf)]
         for name in files:
             if name.endswith(".ci"):
                 ci_files.append(os.path.join(root, name))
@@ -397,7 +409,7 @@ def round_up(value, step):
 
 
 def analyse(args):
-    ci_files, su_files = collect(args.build)
+    ci_files, su_files = collect(args.build, args.elf)
     if not ci_files:
         raise AnalysisError(f"no .ci files under {args.build}: configure the cross build with "
                             f"ITP_STACK_USAGE=ON (the cortex-m7 preset does) and build it")

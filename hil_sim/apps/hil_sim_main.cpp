@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <cmath>
 #include <random>
+#include <thread>
 
 #include "formats/qp_text.hpp"
 #include "sim/closed_loop.hpp"
@@ -24,7 +25,7 @@
 #include "itp/link/messages.hpp"
 #include "itp/link/qp_messages.hpp"
 #include "itp/qp/qp.hpp"
-#include "link/child_process.hpp"
+#include "link/firmware_process.hpp"
 #include "link/link_client.hpp"
 
 namespace {
@@ -33,11 +34,67 @@ struct PingOptions {
   std::string target = "qemu";
   std::string firmware;
   std::string log;
+  std::string key_file;
   int count = 10;
   int timeout_ms = 5000;
   bool garbage = false;
+  bool fill_pipe = false;
   std::uint32_t seed = 1;
 };
+
+// Shrinks the firmware's output pipe to one page and sends, back to back and
+// without reading, just enough Pings that the last Pong overflows it: the
+// firmware has then no input left and its transmitter is full. After a
+// second the host reads, without a nudge: every Pong must arrive. A firmware
+// that waits for transmit room only until the next received byte stalls
+// here for good (issue 13, defect 10).
+int run_burst(hil::ByteTransport& link, int count, int timeout_ms);
+
+int run_fill_pipe(hil::ChildProcess& child, int timeout_ms) {
+  const std::size_t capacity = child.set_output_pipe_size(4096);
+  constexpr std::size_t kPongWire = 2 + 1 + itp::link::kHeaderBytes + itp::link::kPongBytes + itp::link::kCrcBytes;
+  if (capacity == 0) {
+    fmt::print("fill-pipe: cannot set the pipe size\n");
+    return 1;
+  }
+  const int count = static_cast<int>(capacity / kPongWire) + 1;
+  fmt::print("fill-pipe: pipe of {} bytes, {} Pongs of {} bytes\n", capacity, count, kPongWire);
+  return run_burst(child, count, timeout_ms);
+}
+
+int run_burst(hil::ByteTransport& link, int count, int timeout_ms) {
+  std::vector<std::uint8_t> out;
+  std::array<std::uint8_t, itp::link::kMaxWireFrameBytes> frame{};
+  for (int i = 0; i < count; ++i) {
+    std::array<std::uint8_t, itp::link::kPingBytes> body{};
+    itp::link::encode(itp::link::Ping{static_cast<std::uint32_t>(i)}, body);
+    const std::size_t n = itp::link::encode_frame(itp::link::MessageType::kPing, static_cast<std::uint16_t>(i), body, frame);
+    out.insert(out.end(), frame.begin(), frame.begin() + static_cast<long>(n));
+  }
+  if (!link.write_all(out)) {
+    fmt::print("burst: the firmware is gone\n");
+    return 1;
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  itp::link::FrameDecoder dec;
+  std::vector<bool> seen(static_cast<std::size_t>(count), false);
+  int pongs = 0;
+  std::array<std::uint8_t, 4096> rx{};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (pongs < count && std::chrono::steady_clock::now() < deadline) {
+    const std::size_t n = link.read_some(rx, std::chrono::milliseconds(100));
+    for (std::size_t i = 0; i < n; ++i) {
+      itp::link::Pong pong;
+      if (dec.push(rx[i]) == itp::link::DecodeResult::kFrame && dec.frame().header.type == itp::link::MessageType::kPong &&
+          itp::link::decode(dec.frame().chunk, pong) && pong.nonce < seen.size() && !seen[pong.nonce]) {
+        seen[pong.nonce] = true;
+        ++pongs;
+      }
+    }
+  }
+  fmt::print("burst: {} pings sent back to back, {} pongs received without a nudge\n", count, pongs);
+  return pongs == count ? 0 : 1;
+}
 
 // Random bytes, a frame with one bit flipped and a truncated frame: the
 // firmware must drop and count all of them, then still answer.
@@ -62,15 +119,17 @@ std::vector<std::uint8_t> make_garbage(std::mt19937& rng) {
 }
 
 int run_ping(const PingOptions& opt) {
-  std::vector<std::string> cmd;
-  if (opt.target == "qemu") {
-    cmd = hil::qemu_command(opt.firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : opt.firmware, opt.log);
-  } else {
-    cmd = hil::host_firmware_command(opt.firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : opt.firmware);
+  const std::string firmware = opt.firmware.empty()
+                                   ? (opt.target == "qemu" ? ITP_DEFAULT_QEMU_FIRMWARE : ITP_DEFAULT_HOST_FIRMWARE)
+                                   : opt.firmware;
+  fmt::print("starting {} firmware: {}\n", opt.target, firmware);
+  const hil::LinkKey key = hil::link_key_from(opt.key_file);
+  hil::FirmwareProcess fw(opt.target, firmware, key, opt.log);
+  if (opt.fill_pipe) {
+    return run_fill_pipe(fw.process(), opt.timeout_ms);
   }
-  fmt::print("starting {} firmware: {}\n", opt.target, fmt::join(cmd, " "));
-  hil::ChildProcess child(cmd, opt.target == "host" ? opt.log : "");
-  hil::LinkClient client(child);
+  hil::LinkClient client(fw.process());
+  client.set_key(key);
   std::mt19937 rng(opt.seed);
   const auto timeout = std::chrono::milliseconds(opt.timeout_ms);
 
@@ -80,7 +139,7 @@ int run_ping(const PingOptions& opt) {
   std::uint64_t last_ticks = 0;
   std::uint64_t tick_hz = 0;
   bool counter_ok = true;
-  itp::link::LinkCounters fw_counters;
+  itp::link::FirmwareCounters fw_counters;
   for (int i = 0; i < opt.count; ++i) {
     if (opt.garbage && i % 2 == 1) {
       client.send_raw(make_garbage(rng));
@@ -110,20 +169,25 @@ int run_ping(const PingOptions& opt) {
     tick_hz = pong.tick_hz;
     fmt::print("ping {:3}: pong in {:7.2f} ms, firmware counter {} ticks\n", i, ms, pong.ticks);
   }
+  // The authenticated session: the key reached the firmware (key slot or file).
+  const bool session = client.open_session(timeout);
+  fmt::print("session           : {}\n", session ? "established (the firmware holds the link key)" : "FAILED");
+  failures += session ? 0 : 1;
   const auto& cc = client.counters();
+  const itp::link::LinkCounters& fl = fw_counters.link;
   fmt::print("firmware build id : {}\n", build_id.empty() ? "(none)" : build_id);
-  fmt::print("round trips       : {} ok, {} failed, {} timeouts\n", opt.count - failures, failures, cc.timeouts);
+  fmt::print("round trips       : {} ok, {} failed, {} timeouts, {} queries\n", opt.count - failures, failures,
+             cc.timeouts, cc.queries);
   fmt::print("firmware counted  : {} frames ok, {} dropped (cobs {}, length {}, crc {}, version {}, overflow {})\n",
-             fw_counters.frames_ok, fw_counters.dropped(), fw_counters.cobs_errors,
-             fw_counters.length_errors, fw_counters.crc_errors, fw_counters.version_errors,
-             fw_counters.overflows);
+             fl.frames_ok, fl.dropped(), fl.cobs_errors, fl.length_errors, fl.crc_errors, fl.version_errors,
+             fl.overflows);
   fmt::print("firmware counter  : {} Hz, {} ticks between first and last pong\n", tick_hz,
              last_ticks - first_ticks);
   if (!counter_ok || tick_hz == 0) {
     fmt::print("error: the firmware's counter is not running or not monotonic\n");
     ++failures;
   }
-  if (opt.garbage && opt.count > 2 && fw_counters.dropped() == 0) {
+  if (opt.garbage && opt.count > 2 && fl.dropped() == 0) {
     fmt::print("error: garbage was sent but the firmware counted no dropped frame\n");
     ++failures;
   }
@@ -133,28 +197,28 @@ int run_ping(const PingOptions& opt) {
 struct QpCheckOptions {
   std::string target = "qemu";
   std::string firmware;
+  std::string key_file;
   std::vector<std::string> files;
   double tolerance = 1e-9;
   int timeout_ms = 20000;
 };
 
-std::vector<std::string> firmware_command(const std::string& target, const std::string& firmware) {
-  if (target == "qemu") {
-    return hil::qemu_command(firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : firmware, "");
-  }
-  return hil::host_firmware_command(firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : firmware);
-}
-
 // Solves each QP file on the host and on the firmware (cold start both) and
 // compares: same status, and x equal to `tolerance` relative to max(1, |x|inf).
 int run_qp_check(const QpCheckOptions& opt) {
-  using D = itp::qp::PathQpDims<double>;
+  using D = itp::qp::PathQpDims<double, itp::DefaultConfig>;
   static itp::qp::QpProblem<D> problem;
   static itp::qp::QpWorkspace<D> workspace;
   static itp::qp::QpResult<D> host;
-  static std::array<std::uint8_t, itp::config::kMaxPayloadBytes> body{};
-  hil::ChildProcess child(firmware_command(opt.target, opt.firmware), "");
-  hil::LinkClient client(child);
+  static std::array<std::uint8_t, itp::link::kMaxQpRequestBytes<D>> body{};
+  // The QP-check service lives in the test firmware image only.
+  const std::string firmware =
+      !opt.firmware.empty() ? opt.firmware
+                            : (opt.target == "qemu" ? ITP_DEFAULT_QEMU_QP_CHECK_FIRMWARE : ITP_DEFAULT_HOST_QP_CHECK_FIRMWARE);
+  const hil::LinkKey key = hil::link_key_from(opt.key_file);
+  hil::FirmwareProcess fw(opt.target, firmware, key);
+  hil::LinkClient client(fw.process());
+  client.set_key(key);
   int failures = 0;
   double worst = 0;
   fmt::print("{:<28} {:>10} {:>10} {:>6} {:>12} {:>14}\n", "file", "host", "target", "iters", "rel. diff",
@@ -173,7 +237,7 @@ int run_qp_check(const QpCheckOptions& opt) {
                               : client.request(itp::link::MessageType::kQpSolveRequest,
                                                std::span<const std::uint8_t>(body.data(), n),
                                                std::chrono::milliseconds(opt.timeout_ms));
-    itp::link::QpSolveReply target;
+    itp::link::QpSolveReply<D> target;
     if (!reply || reply->type != itp::link::MessageType::kQpSolveReply || !itp::link::decode(reply->payload, target)) {
       fmt::print("{}: no valid reply from the firmware\n", path);
       client.resync();
@@ -300,9 +364,14 @@ int main(int argc, char** argv) {
   ping_cmd->add_option("--firmware", ping.firmware,
                        "Firmware executable (host) or ELF (qemu); defaults to this build's");
   ping_cmd->add_option("--log", ping.log, "File for the firmware's log lines");
+  ping_cmd->add_option("--key", ping.key_file,
+                       "Link key file (32 bytes or 64 hex digits; default: a fresh random key for this run)");
   ping_cmd->add_option("--count", ping.count, "Number of round trips")->check(CLI::PositiveNumber)->capture_default_str();
   ping_cmd->add_option("--timeout-ms", ping.timeout_ms, "Reply timeout per request")->capture_default_str();
   ping_cmd->add_flag("--garbage", ping.garbage, "Inject garbage, bit flips and truncated frames between pings");
+  ping_cmd->add_flag("--fill-pipe", ping.fill_pipe,
+                     "Instead: overflow a one-page output pipe with the last of a burst of Pongs, then read them "
+                     "all without nudging (the transmitter must wake the firmware)");
   ping_cmd->add_option("--seed", ping.seed, "Seed for nonces and garbage")->capture_default_str();
 
   QpCheckOptions qp;
@@ -311,7 +380,9 @@ int main(int argc, char** argv) {
   qp_cmd->add_option("--target", qp.target, "Firmware to compare with")
       ->check(CLI::IsMember({"host", "qemu"}))
       ->capture_default_str();
-  qp_cmd->add_option("--firmware", qp.firmware, "Firmware executable (host) or ELF (qemu)");
+  qp_cmd->add_option("--firmware", qp.firmware,
+                     "Firmware executable (host) or ELF (qemu) with the QP-check service (default: this build's test image)");
+  qp_cmd->add_option("--key", qp.key_file, "Link key file (default: a fresh random key for this run)");
   qp_cmd->add_option("--tolerance", qp.tolerance, "Largest relative difference of x accepted")->capture_default_str();
 
   GenOptions gen;
@@ -353,6 +424,14 @@ int main(int argc, char** argv) {
                       "host/qemu: after the run, ask the firmware for its Diagnostics (stack peak) and write them as JSON here");
   run_cmd->add_option("--duration", run.duration, "Run length per scene [s] (default: the scene's, else 12)")
       ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--link-faults", run.link_faults,
+                      "host/qemu: byte faults on the link, both directions: drop=P,dup=P,flip=P,reorder=P[,seed=N] "
+                      "(or bytes=P, split evenly)");
+  run_cmd->add_option("--link-deadline-ms", run.link_deadline_ms,
+                      "host/qemu: time a cycle's reply may take, retransmissions included (default 1000 host, 20000 qemu)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--key", run.key_file,
+                      "host/qemu: link key file (32 bytes or 64 hex digits; default: a fresh random key for the run)");
   add_commonroad_options(run_cmd, run.commonroad, false);
 
   std::string compare_a, compare_b, compare_json;

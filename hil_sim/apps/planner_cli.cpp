@@ -211,7 +211,7 @@ struct BatchOptions {
 // on the wire), to compare a target's answer with.
 void plan_as_received(const itp::scene::Scene& scene, int stride, itp::planner::Planner& planner,
                       itp::planner::Plan& out) {
-  static std::array<std::uint8_t, itp::config::kMaxPayloadBytes> body{};
+  static std::array<std::uint8_t, itp::link::kMaxSceneBytes<itp::DefaultConfig>> body{};
   static itp::scene::Scene wire;
   const std::size_t n = itp::link::encode_scene({1, 0.0, true}, scene, stride, body);
   itp::link::SceneHeader h;

@@ -12,7 +12,8 @@
 
 namespace hil {
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& stderr_path) {
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& stderr_path,
+                           const std::vector<std::string>& env) {
   int in_pipe[2];
   int out_pipe[2];
   if (pipe(in_pipe) != 0 || pipe(out_pipe) != 0) {
@@ -30,6 +31,12 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
     throw std::runtime_error("fork() failed");
   }
   if (pid_ == 0) {
+    for (const std::string& e : env) {
+      const auto eq = e.find('=');
+      if (eq != std::string::npos) {
+        setenv(e.substr(0, eq).c_str(), e.substr(eq + 1).c_str(), 1);
+      }
+    }
     dup2(in_pipe[0], STDIN_FILENO);
     dup2(out_pipe[1], STDOUT_FILENO);
     if (!stderr_path.empty()) {
@@ -81,6 +88,12 @@ std::size_t ChildProcess::read_some(std::span<std::uint8_t> buffer,
   return n > 0 ? static_cast<std::size_t>(n) : 0;
 }
 
+std::size_t ChildProcess::set_output_pipe_size(std::size_t bytes) {
+  fcntl(from_child_, F_SETPIPE_SZ, static_cast<int>(bytes));
+  const int size = fcntl(from_child_, F_GETPIPE_SZ);
+  return size > 0 ? static_cast<std::size_t>(size) : 0;
+}
+
 bool ChildProcess::running() {
   if (pid_ <= 0) {
     return false;
@@ -115,7 +128,8 @@ void ChildProcess::stop() {
   }
 }
 
-std::vector<std::string> qemu_command(const std::string& elf, const std::string& log_path) {
+std::vector<std::string> qemu_command(const std::string& elf, const std::string& log_path,
+                                      const std::string& key_slot_path) {
   // UART0 carries the link on stdio; UART1 (the firmware's log) goes to a file or nowhere.
   //
   // The stdio back end reaches UART0 through a multiplexer (mux=on) for speed:
@@ -130,11 +144,16 @@ std::vector<std::string> qemu_command(const std::string& elf, const std::string&
   // Bytes that arrive before the firmware enables the UART wait in the mux
   // until the next byte comes in; LinkClient sends a lone delimiter when a
   // reply is late (ClientPacing::nudge_after).
-  return {"qemu-system-arm", "-M", "mps2-an500", "-nographic", "-monitor", "none",
-          "-icount", "shift=0", "-echr", "256",
-          "-chardev", "stdio,id=link,mux=on", "-serial", "chardev:link",
-          "-serial", log_path.empty() ? std::string("null") : "file:" + log_path,
-          "-kernel", elf};
+  std::vector<std::string> cmd = {"qemu-system-arm", "-M", "mps2-an500", "-nographic", "-monitor", "none",
+                                  "-icount", "shift=0", "-echr", "256",
+                                  "-chardev", "stdio,id=link,mux=on", "-serial", "chardev:link",
+                                  "-serial", log_path.empty() ? std::string("null") : "file:" + log_path,
+                                  "-kernel", elf};
+  if (!key_slot_path.empty()) {
+    // The key slot of port/mps2_an500 (kKeySlotAddress), filled before the core starts.
+    cmd.insert(cmd.end(), {"-device", "loader,file=" + key_slot_path + ",addr=0x203FFF00,force-raw=on"});
+  }
+  return cmd;
 }
 
 std::vector<std::string> host_firmware_command(const std::string& executable) {

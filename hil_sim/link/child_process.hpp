@@ -11,8 +11,10 @@ namespace hil {
 class ChildProcess final : public ByteTransport {
  public:
   // argv[0] is looked up in PATH. `stderr_path` receives the child's stderr
-  // ("" keeps the parent's). Throws std::runtime_error if it cannot start.
-  ChildProcess(const std::vector<std::string>& argv, const std::string& stderr_path);
+  // ("" keeps the parent's); `env` holds NAME=VALUE entries added to the
+  // child's environment. Throws std::runtime_error if it cannot start.
+  ChildProcess(const std::vector<std::string>& argv, const std::string& stderr_path,
+               const std::vector<std::string>& env = {});
   ~ChildProcess() override;
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
@@ -22,6 +24,9 @@ class ChildProcess final : public ByteTransport {
                         std::chrono::milliseconds timeout) override;
 
   bool running();
+  // Shrinks (or grows) the pipe the child writes into; returns its capacity
+  // in bytes afterwards (Linux F_SETPIPE_SZ), 0 if that failed.
+  std::size_t set_output_pipe_size(std::size_t bytes);
   // Ends the child (SIGTERM, then SIGKILL) and reaps it.
   void stop();
 
@@ -31,8 +36,11 @@ class ChildProcess final : public ByteTransport {
   int from_child_ = -1;  // child's stdout
 };
 
-// Command lines for the two process targets.
-std::vector<std::string> qemu_command(const std::string& elf, const std::string& log_path);
+// Command lines for the two process targets. `key_slot_path` (may be ""):
+// a file QEMU's generic loader writes into the firmware's key slot
+// (docs/port.md, "Key provisioning").
+std::vector<std::string> qemu_command(const std::string& elf, const std::string& log_path,
+                                      const std::string& key_slot_path = "");
 std::vector<std::string> host_firmware_command(const std::string& executable);
 
 }  // namespace hil

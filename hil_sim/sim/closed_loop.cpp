@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <deque>
@@ -19,6 +20,7 @@
 #include "itp/planner/planner.hpp"
 #include "sim/box_geometry.hpp"
 #include "sim/inproc_endpoint.hpp"
+#include "link/fault_injection.hpp"
 #include "sim/link_endpoint.hpp"
 #include "sim/plan_plots.hpp"
 #include "sim/scene_files.hpp"
@@ -239,9 +241,16 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
       picker.remember(k, t, *scene);
       const EndpointResult er = endpoint.plan(*scene, t, *plan);
       std::string problem;
+      if (er.scene_mismatch) metrics.add_corrupt_scene();
       if (!er.ok) {
         metrics.add_link_error();
-        controller.emergency_brake(opt.emergency_decel);
+        // No fresh plan: follow the last valid one while it lasts, then stand
+        // still at its end; without one, brake where the ego is.
+        if (controller.has_plan() && !controller.braking()) {
+          controller.stop_within_plan(opt.emergency_decel);
+        } else {
+          controller.emergency_brake(opt.emergency_decel);
+        }
         rec.reason = er.error.empty() ? "link error" : er.error;
         problem = "link error: " + rec.reason;
       } else {
@@ -405,6 +414,18 @@ std::string summary_table(const json& rep) {
   for (const auto& [k, v] : invalid) inv += fmt::format("{}{} {}", inv.empty() ? "" : ", ", k, v);
   row("invalid inputs", fmt::format("{}{}", num(rep["invalid_inputs"]), inv.empty() ? "" : " (" + inv + ")"));
   row("link errors", num(rep["link_errors"]));
+  if (rep.contains("link")) {
+    const json& l = rep["link"];
+    row("cycles without a fresh plan", fmt::format("{} ({:.2f} %), corrupt scenes accepted {}", num(rep["link_errors"]),
+                                                   100.0 * rep.value("share_without_fresh_plan", 0.0),
+                                                   num(rep["corrupt_scenes_accepted"])));
+    row("link: queries / statuses / resent", fmt::format("{} / {} / {}", num(l["queries"]), num(l["statuses"]),
+                                                         num(l["segments_resent"])));
+    if (l.contains("faults_to_firmware")) {
+      row("link: byte faults to fw / to host", fmt::format("{} / {}", num(l["faults_to_firmware"]),
+                                                           num(l["faults_to_host"])));
+    }
+  }
   row("crashes", num(rep["crashes"]));
   if (rep.contains("obstacles_left_out")) {
     const json& lo = rep["obstacles_left_out"];
@@ -544,10 +565,25 @@ int run_command(const RunCommand& cmd) {
   // Endpoint.
   std::unique_ptr<PlannerEndpoint> endpoint;
   std::string why;
+  LinkOptions link;
+  link.key_file = cmd.key_file;
+  link.deadline = std::chrono::milliseconds(cmd.link_deadline_ms);
+  if (!cmd.link_faults.empty()) {
+    const auto faults = parse_link_faults(cmd.link_faults, why);
+    if (!faults) {
+      fmt::print(stderr, "hil_sim run: --link-faults: {}\n", why);
+      return 2;
+    }
+    link.faults = *faults;
+  }
   if (cmd.target == "inproc") {
+    if (link.faults.any()) {
+      fmt::print(stderr, "hil_sim run: --link-faults needs a link (--target host or qemu)\n");
+      return 2;
+    }
     endpoint = std::make_unique<InprocEndpoint>();
   } else if (cmd.target == "host" || cmd.target == "qemu") {
-    endpoint = make_link_endpoint(cmd.target, cmd.firmware, &why);
+    endpoint = make_link_endpoint(cmd.target, cmd.firmware, &why, link);
   }
   if (!endpoint) {
     fmt::print(stderr, "hil_sim run: cannot use target '{}'{}\n", cmd.target, why.empty() ? "" : ": " + why);
@@ -567,8 +603,9 @@ int run_command(const RunCommand& cmd) {
     }
   }
 
-  fmt::print("hil_sim run: {} scenes, target {}, prediction {}\n", worlds.size(), endpoint->name(),
-             opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity");
+  fmt::print("hil_sim run: {} scenes, target {}, prediction {}{}\n", worlds.size(), endpoint->name(),
+             opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity",
+             link.faults.any() ? ", link faults " + to_string(link.faults) : std::string());
   std::fflush(stdout);
   std::ofstream trace;
   if (!cmd.trace.empty()) {
@@ -623,7 +660,9 @@ int run_command(const RunCommand& cmd) {
     progress.update(static_cast<int>(i + 1), w.name, collisions, fallbacks);
   }
 
-  const json rep = suite.report(endpoint->name());
+  json rep = suite.report(endpoint->name());
+  const json link_stats = endpoint->link_statistics();
+  if (!link_stats.is_null()) rep["link"] = link_stats;
   fmt::print("{}", summary_table(rep));
   if (!cmd.diagnostics.empty()) {
     // Asked after the last cycle: the peak covers the whole run (docs/memory.md).
@@ -668,7 +707,17 @@ int run_command(const RunCommand& cmd) {
     }
     fmt::print("plots: {}\n", index);
   }
-  return rep.value("crashes", 0) > 0 ? 3 : 0;
+  if (rep.value("crashes", 0) > 0) return 3;
+  // A link that failed is a failed run, not a result (issue 13, defect 8: a
+  // run where every cycle was a link error exited 0).
+  const int link_errors = rep.value("link_errors", 0);
+  const int no_plan = rep.value("scenes_without_any_plan", 0);
+  if ((link_errors > 0 && !link.faults.any()) || no_plan > 0) {
+    fmt::print(stderr, "hil_sim run: the link failed: {} cycles without a plan, {} scenes without any{}\n", link_errors,
+               no_plan, link.faults.any() ? "" : " (no faults were injected)");
+    return 4;
+  }
+  return 0;
 }
 
 }  // namespace hil::sim

@@ -29,7 +29,10 @@ struct RunOptions {
   Prediction prediction = Prediction::kConstantVelocity;
   double duration = -1.0;        // [s] <= 0: the world's duration, else 12 s
   double cycle = 0.1;            // [s] planning period (also the metrics step)
-  double emergency_decel = 4.0;  // [m/s^2] braking on a link error or an invalid_input plan
+  // [m/s^2] braking on an invalid_input plan or a link error with no plan to
+  // follow; with one, the ego follows the last valid plan, its speed capped
+  // so that braking at this rate stops it by the plan's end.
+  double emergency_decel = 4.0;
   TrackingGains gains{};
   // Keep copies of the planner Scenes of the most interesting cycle (and the
   // one before it, for stitching) so that plots can re-plan it.
@@ -108,12 +111,17 @@ struct RunCommand {
   std::string trace;                     // JSON Lines file, one object per cycle ("" = none)
   std::string diagnostics;               // host / qemu: the firmware's Diagnostics after the run, JSON ("" = none)
   double duration = -1.0;                // [s] <= 0: each world's own
+  std::string link_faults;               // host/qemu: "drop=P,dup=P,flip=P,reorder=P[,seed=N]" ("" = none)
+  int link_deadline_ms = 0;              // host/qemu: per cycle, retransmissions included (<= 0: the target's default)
+  std::string key_file;                  // host/qemu: the link key ("" = a fresh random key for the run)
 };
 
 // Returns the process exit code: 0 when every scene ran (collisions are
 // results), 2 on usage / setup errors (unreadable scene, unknown target,
 // unwritable output), 3 when a scene crashed (the endpoint threw or a world
-// has no usable reference line); the report is written in every case but 2.
+// has no usable reference line), 4 when the link failed: a link error on a
+// link without injected faults, or (with --link-faults) a scene that never
+// got a plan at all. The report is written in every case but 2.
 int run_command(const RunCommand& command);
 
 }  // namespace hil::sim

@@ -24,6 +24,10 @@ constexpr double kMinPointSpacing = 0.5;      // [m] reference-line points close
 constexpr double kMaxTurnPerPoint = std::numbers::pi / 4;  // [rad] sharper kinks are dropped
 constexpr int kMaxLanesAcross = 16;           // neighbours walked on each side, at most
 constexpr int kMaxGoalSearch = 200;           // lanelets searched for a goal from a branch
+// Points inserted into one polyline segment, at most: 10 km at 0.5 m. A longer
+// segment (no road has one; a corrupted file may) is sampled more coarsely
+// instead of overflowing the count (found by fuzz_commonroad: 1e10 m).
+constexpr double kMaxDensifiedSteps = 20000;
 
 Point2 to_point(const cr::Vec2& v) { return {v.x, v.y}; }
 
@@ -47,7 +51,7 @@ std::vector<Point2> densified(const std::vector<Point2>& line, double spacing) {
   std::vector<Point2> out;
   for (std::size_t i = 0; i + 1 < line.size(); ++i) {
     const double d = std::hypot(line[i + 1].x - line[i].x, line[i + 1].y - line[i].y);
-    const int n = std::max(1, static_cast<int>(std::ceil(d / spacing)));
+    const int n = std::max(1, static_cast<int>(std::min(std::ceil(d / spacing), kMaxDensifiedSteps)));
     for (int k = 0; k < n; ++k) {
       const double u = static_cast<double>(k) / n;
       out.push_back({line[i].x + u * (line[i + 1].x - line[i].x), line[i].y + u * (line[i + 1].y - line[i].y)});

@@ -1,19 +1,43 @@
 #include "sim/link_endpoint.hpp"
 
-#include <array>
 #include <chrono>
+#include <vector>
 
+#include "itp/link/crc32.hpp"
+#include "itp/link/messages.hpp"
 #include "itp/link/planner_messages.hpp"
-#include "link/child_process.hpp"
+#include "link/fault_injection.hpp"
+#include "link/firmware_process.hpp"
 #include "link/link_client.hpp"
 
 namespace hil::sim {
 namespace {
 
+ClientPacing pacing_for(const std::string& target) {
+  ClientPacing p;
+  if (target == "qemu") {
+    // A QEMU planning cycle takes tens (rarely hundreds) of milliseconds of
+    // wall time, and its UART writes a byte every few microseconds: ask after
+    // half a second of silence following a request (a rare long cycle then
+    // has its reply sent twice), and after 30 ms once the reply is flowing.
+    p.first_gap = std::chrono::milliseconds(500);
+    p.gap = std::chrono::milliseconds(30);
+  }
+  return p;
+}
+
 class LinkEndpoint final : public PlannerEndpoint {
  public:
-  LinkEndpoint(std::string target, const std::vector<std::string>& command)
-      : target_(std::move(target)), child_(command, ""), client_(child_) {}
+  LinkEndpoint(std::string target, const std::string& firmware, const LinkOptions& options)
+      : target_(std::move(target)),
+        key_(link_key_from(options.key_file)),
+        firmware_(target_, firmware, key_),
+        faulty_(options.faults.any() ? std::make_unique<FaultyTransport>(firmware_.process(), options.faults) : nullptr),
+        client_(faulty_ ? static_cast<ByteTransport&>(*faulty_) : firmware_.process(), pacing_for(target_)),
+        deadline_(options.deadline.count() > 0 ? options.deadline
+                                               : std::chrono::milliseconds(target_ == "qemu" ? 20000 : 1000)) {
+    client_.set_key(key_);
+  }
 
   void reset() override { reset_next_ = true; }
 
@@ -31,20 +55,28 @@ class LinkEndpoint final : public PlannerEndpoint {
       res.error = "scene does not fit a link message";
       return res;
     }
-    const auto timeout = std::chrono::milliseconds(target_ == "qemu" ? 60000 : 5000);
-    const auto reply = client_.request(itp::link::MessageType::kPlanRequest,
-                                       std::span<const std::uint8_t>(body_.data(), n), timeout);
-    std::uint32_t cycle = 0;
+    const std::span<const std::uint8_t> body(body_.data(), n);
+    const auto reply = client_.request(itp::link::MessageType::kPlanRequest, body, deadline_);
     if (!reply) {
-      res.error = "no reply (timeout)";
+      res.error = "no reply before the deadline";
       client_.resync();
       return res;
     }
-    if (reply->type != itp::link::MessageType::kPlanReply || !itp::link::decode_plan(reply->payload, cycle, out) ||
-        cycle != header.cycle) {
+    if (reply->type == itp::link::MessageType::kAuthError) {
+      itp::link::AuthErrorReply err;
+      res.error = std::string("refused by the firmware: ") +
+                  (itp::link::decode(reply->payload, err) ? itp::link::to_string(err.code) : "?");
+      return res;
+    }
+    itp::link::PlanHeader ph;
+    if (reply->type != itp::link::MessageType::kPlanReply || !itp::link::decode_plan(reply->payload, ph, out) ||
+        ph.cycle != header.cycle) {
       res.error = "corrupt or unexpected reply";
       return res;
     }
+    // The firmware echoes the CRC-32 of the Scene it planned: a scene that
+    // changed on the way and was still accepted would show here.
+    res.scene_mismatch = ph.scene_crc != itp::link::crc32(body);
     reset_next_ = false;
     res.ok = true;
     if (out.timing.tick_hz > 0) {
@@ -71,11 +103,34 @@ class LinkEndpoint final : public PlannerEndpoint {
     return diag;
   }
 
+  nlohmann::json link_statistics() const override {
+    const ClientCounters& c = client_.counters();
+    const itp::link::LinkCounters& rx = client_.rx_counters();
+    const itp::link::AuthCounters& a = client_.auth_counters();
+    nlohmann::json j = {{"requests", c.requests},         {"replies", c.replies},
+                        {"timeouts", c.timeouts},         {"stale_replies", c.stale_replies},
+                        {"queries", c.queries},           {"statuses", c.statuses},
+                        {"segments_resent", c.segments_resent}, {"replies_refused", c.auth_refused},
+                        {"auth_errors", c.auth_errors},   {"sessions", c.sessions},
+                        {"frames_received", rx.frames_ok}, {"frames_dropped", rx.dropped()},
+                        {"secured_replies_accepted", a.accepted}, {"final_segment_size", client_.segment_size()}};
+    if (faulty_) {
+      j["faults_to_firmware"] = faulty_->to_firmware().faults();
+      j["faults_to_host"] = faulty_->to_host().faults();
+      j["bytes_to_firmware"] = faulty_->to_firmware().bytes;
+      j["bytes_to_host"] = faulty_->to_host().bytes;
+    }
+    return j;
+  }
+
  private:
   std::string target_;
-  ChildProcess child_;
+  LinkKey key_;
+  FirmwareProcess firmware_;
+  std::unique_ptr<FaultyTransport> faulty_;
   LinkClient client_;
-  std::array<std::uint8_t, itp::config::kMaxPayloadBytes> body_{};
+  std::chrono::milliseconds deadline_;
+  std::array<std::uint8_t, itp::link::kMaxSceneBytes<itp::DefaultConfig>> body_{};
   std::uint32_t cycle_ = 0;
   bool reset_next_ = true;
 };
@@ -83,13 +138,13 @@ class LinkEndpoint final : public PlannerEndpoint {
 }  // namespace
 
 std::unique_ptr<PlannerEndpoint> make_link_endpoint(const std::string& target, const std::string& firmware,
-                                                    std::string* error) {
+                                                    std::string* error, const LinkOptions& options) {
   try {
     if (target == "qemu") {
-      return std::make_unique<LinkEndpoint>(target, qemu_command(firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : firmware, ""));
+      return std::make_unique<LinkEndpoint>(target, firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : firmware, options);
     }
     if (target == "host") {
-      return std::make_unique<LinkEndpoint>(target, host_firmware_command(firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : firmware));
+      return std::make_unique<LinkEndpoint>(target, firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : firmware, options);
     }
     if (error != nullptr) *error = "unknown target '" + target + "'";
   } catch (const std::exception& e) {

@@ -201,6 +201,7 @@ json scene_summary_json(const SceneSummary& s) {
             {"fallback_reasons", s.fallback_reasons},
             {"invalid_inputs", s.invalid_inputs},
             {"link_errors", s.link_errors},
+            {"corrupt_scenes_accepted", s.corrupt_scenes_accepted},
             {"crashed", s.crashed},
             {"min_clearance_m", opt(s.min_clearance_m)},
             {"progress_m", s.progress_m},
@@ -228,7 +229,7 @@ void SuiteAggregator::add(SceneSummary scene) { scenes_.push_back(std::move(scen
 json SuiteAggregator::report(const std::string& target) const {
   int cycles = 0, collisions = 0, collision_steps = 0, departures = 0, departure_steps = 0;
   int ran_into = 0, hit = 0;
-  int fallbacks = 0, invalid = 0, link_errors = 0, crashes = 0;
+  int fallbacks = 0, invalid = 0, link_errors = 0, crashes = 0, corrupt = 0, no_plan_scenes = 0;
   int left_out_cycles = 0, left_out_total = 0, left_out_max = 0;
   std::optional<double> min_clear;
   double max_lat = 0.0, max_lon = 0.0, max_jerk = 0.0, progress = 0.0;
@@ -249,6 +250,8 @@ json SuiteAggregator::report(const std::string& target) const {
     fallbacks += s.fallbacks;
     invalid += s.invalid_inputs;
     link_errors += s.link_errors;
+    corrupt += s.corrupt_scenes_accepted;
+    no_plan_scenes += s.link_errors > 0 && s.cycles == 0 ? 1 : 0;
     crashes += s.crashed ? 1 : 0;
     left_out_cycles += s.left_out_cycles;
     left_out_total += s.left_out_total;
@@ -302,6 +305,13 @@ json SuiteAggregator::report(const std::string& target) const {
             {"max_path_deviation_m", opt(max_path_dev)},
             {"median_scene_path_deviation_m", opt(compute_stats(path_devs).median)},
             {"progress_m_total", progress},
+            // The link (docs/simulation.md, "Link faults"): planning cycles that
+            // got no fresh plan, their share, and scenes that never got one.
+            {"cycles_without_fresh_plan", link_errors},
+            {"share_without_fresh_plan",
+             cycles + link_errors > 0 ? static_cast<double>(link_errors) / (cycles + link_errors) : 0.0},
+            {"scenes_without_any_plan", no_plan_scenes},
+            {"corrupt_scenes_accepted", corrupt},
             {"per_scene", std::move(per_scene)}};
   if (left_out_cycles > 0) j["obstacles_left_out"] = left_out_json(left_out_cycles, left_out_total, left_out_max);
   return j;

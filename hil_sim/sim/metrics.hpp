@@ -61,7 +61,8 @@ struct SceneSummary {
   std::map<std::string, int> fallback_reasons;
   int invalid_inputs = 0;
   std::map<std::string, int> invalid_input_reasons;
-  int link_errors = 0;
+  int link_errors = 0;                  // cycles without a fresh plan (no valid reply in time)
+  int corrupt_scenes_accepted = 0;      // plans of a Scene other than the one sent (CRC echo differs)
   // Obstacles in range that the receiving configuration could not hold (the
   // conversion kept the most relevant ones): cycles where any were left out,
   // their sum over cycles, the most in one cycle.
@@ -104,6 +105,7 @@ class SceneMetrics {
   // Where that deviation is largest: the new plan's sample time [s from its start].
   double last_path_deviation_time() const { return last_dev_t_; }
   void add_link_error(int count = 1);
+  void add_corrupt_scene() { ++s_.corrupt_scenes_accepted; }
   // Obstacles the cycle's scene could not hold (0: none).
   void add_left_out(int count);
   void set_crashed(std::string reason);

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "itp/link/messages.hpp"
 #include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
@@ -16,6 +18,7 @@ namespace hil::sim {
 struct EndpointResult {
   bool ok = false;            // false: timeout, corrupt or missing reply (counted as a link error)
   std::string error;          // for people, when !ok
+  bool scene_mismatch = false;  // the firmware planned a Scene other than the one sent (its CRC echo differs)
   double cycle_time_us = -1;  // host targets: the planner's own total time; < 0 when not measured
   double instructions = -1;   // qemu: instructions of the planning cycle (40 per tick); < 0 when not measured
 };
@@ -31,6 +34,8 @@ class PlannerEndpoint {
   // The firmware's resource use (Diagnostics message); nullopt when the
   // endpoint has no firmware or it did not answer.
   virtual std::optional<itp::link::Diagnostics> diagnostics() { return std::nullopt; }
+  // What the link counted over the run (report/1 key "link"); null without a link.
+  virtual nlohmann::json link_statistics() const { return nullptr; }
 };
 
 }  // namespace hil::sim

@@ -85,6 +85,15 @@ void TrackingController::set_plan(std::vector<TrajectoryPoint> plan, double t_st
   plan_ = std::move(plan);
   t_start_ = t_start;
   braking_ = false;
+  within_plan_ = false;
+}
+
+void TrackingController::stop_within_plan(double decel) {
+  if (braking_ || plan_.empty()) {
+    return;
+  }
+  within_plan_ = true;
+  within_plan_decel_ = std::abs(decel);
 }
 
 void TrackingController::emergency_brake(double decel) {
@@ -136,7 +145,16 @@ VehicleCommand TrackingController::command(const VehicleState& s, double t_now) 
   const double psi = wrap_angle(s.heading - ref.heading);
   const double ld = std::max(gains_.lookahead_min, gains_.lookahead_time * s.v);
   const double k_cmd = ref.kappa - lateral / (ld * ld) - 2.0 * std::sin(psi) / ld;
-  const TrajectoryPoint tp = sample_plan(plan_, t_now - t_start_);
+  TrajectoryPoint tp = sample_plan(plan_, t_now - t_start_);
+  if (within_plan_) {
+    // v <= decel * (time left on the plan): standing still at its last sample.
+    const double left = std::max(0.0, plan_.back().t - (t_now - t_start_));
+    const double v_cap = within_plan_decel_ * left;
+    if (tp.v > v_cap) {
+      tp.v = v_cap;
+      tp.a = -within_plan_decel_;
+    }
+  }
   errors_ = TrackingErrors{lateral, psi, tp.v - s.v};
   double accel = tp.a + gains_.speed_p * (tp.v - s.v);
   if (tp.v <= 0.0 && s.v < 0.05) accel = std::min(accel, 0.0);  // stay stopped

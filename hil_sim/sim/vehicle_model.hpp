@@ -80,7 +80,13 @@ class TrackingController {
   // A new plan, its t = 0 at absolute time t_start [s].
   void set_plan(std::vector<TrajectoryPoint> plan, double t_start);
   void emergency_brake(double decel);  // [m/s^2] positive; until the next set_plan()
+  // No fresh plan: keep following the last one along its path, its speed
+  // capped so that braking at `decel` [m/s^2] stops the vehicle by the
+  // plan's last sample (it never runs past what was planned). Until the next
+  // set_plan(); ignored while an emergency brake is on.
+  void stop_within_plan(double decel);
   bool braking() const { return braking_; }
+  bool stopping_within_plan() const { return within_plan_; }
   bool has_plan() const { return !plan_.empty(); }
 
   VehicleCommand command(const VehicleState& s, double t_now);
@@ -96,6 +102,8 @@ class TrackingController {
   double t_start_ = 0.0;
   bool braking_ = false;
   double brake_decel_ = 0.0;
+  bool within_plan_ = false;
+  double within_plan_decel_ = 0.0;
   TrackingErrors errors_;
 };
 

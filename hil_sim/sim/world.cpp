@@ -1,6 +1,8 @@
 #include "sim/world.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -114,7 +116,9 @@ double positive(const json& j, const char* key, const std::string& where) {
   return d;
 }
 
-int integer(const json& j, const char* key, const std::string& where) {
+// An integer that fits the planner's 32-bit ids: JSON integers beyond that
+// range are refused by name, never wrapped (4294967297 is not 1).
+std::int32_t integer(const json& j, const char* key, const std::string& where) {
   if (!j.is_object() || !j.contains(key)) {
     fail(where, fmt::format("missing key \"{}\"", key));
   }
@@ -122,7 +126,14 @@ int integer(const json& j, const char* key, const std::string& where) {
   if (!v.is_number_integer()) {
     fail(where, fmt::format("\"{}\" must be an integer", key));
   }
-  return v.get<int>();
+  constexpr auto lo = std::numeric_limits<std::int32_t>::min();
+  constexpr auto hi = std::numeric_limits<std::int32_t>::max();
+  const bool in_range = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(hi)
+                                               : v.get<std::int64_t>() >= lo && v.get<std::int64_t>() <= hi;
+  if (!in_range) {
+    fail(where, fmt::format("\"{}\" must be an integer in [{}, {}]", key, lo, hi));
+  }
+  return static_cast<std::int32_t>(v.get<std::int64_t>());
 }
 
 std::string optional_kind(const json& j) {

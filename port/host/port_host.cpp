@@ -1,9 +1,14 @@
 // Host port: the firmware as an ordinary process. The serial line is
 // stdin/stdout (a simulator drives it through pipes), the log is stderr and
-// the counter is CLOCK_MONOTONIC in nanoseconds.
+// the counter is CLOCK_MONOTONIC in nanoseconds. The key slot is a file named
+// by the environment variable ITP_LINK_KEY_FILE (32 raw bytes, as hil_sim
+// writes it for the firmware it starts), the boot entropy getrandom().
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/random.h>
 #include <unistd.h>
+
+#include <cstdlib>
 
 #include <cerrno>
 #include <cstring>
@@ -68,5 +73,32 @@ std::uint32_t stack_size_bytes() { return 0u; }  // the host's stack is the OS's
 std::uint32_t stack_peak_bytes() { return 0u; }
 
 bool keep_running() { return g_open; }
+
+bool link_key(std::span<std::uint8_t, 32> key) {
+  const char* path = std::getenv("ITP_LINK_KEY_FILE");
+  if (path == nullptr || *path == '\0') {
+    return false;
+  }
+  const int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    return false;
+  }
+  std::size_t got = 0;
+  while (got < key.size()) {
+    const ssize_t n = read(fd, key.data() + got, key.size() - got);
+    if (n <= 0) {
+      break;
+    }
+    got += static_cast<std::size_t>(n);
+  }
+  std::uint8_t extra = 0;
+  const bool exact = got == key.size() && read(fd, &extra, 1) == 0;  // exactly 32 bytes
+  close(fd);
+  return exact;
+}
+
+bool boot_entropy(std::span<std::uint8_t, 32> entropy) {
+  return getrandom(entropy.data(), entropy.size(), 0) == static_cast<ssize_t>(entropy.size());
+}
 
 }  // namespace port

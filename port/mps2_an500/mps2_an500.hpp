@@ -33,13 +33,30 @@ inline constexpr std::uint32_t kUartTxFull = 1u << 0;
 inline constexpr std::uint32_t kUartRxFull = 1u << 1;
 inline constexpr std::uint32_t kUartTxEnable = 1u << 0;
 inline constexpr std::uint32_t kUartRxEnable = 1u << 1;
+inline constexpr std::uint32_t kUartTxIntEnable = 1u << 2;
 inline constexpr std::uint32_t kUartRxIntEnable = 1u << 3;
+inline constexpr std::uint32_t kUartTxInt = 1u << 0;  // INTSTATUS, write 1 to clear
 inline constexpr std::uint32_t kUartRxInt = 1u << 1;  // INTSTATUS, write 1 to clear
 
-// NVIC: UART0's receive interrupt is device IRQ 0 on this image.
+// NVIC: UART0's receive interrupt is device IRQ 0 on this image, its
+// transmit interrupt (the transmit buffer emptied) IRQ 1.
 inline constexpr std::uintptr_t kNvicIser0 = 0xE000E100u;
 inline constexpr std::uintptr_t kNvicIcpr0 = 0xE000E280u;
 inline constexpr std::uint32_t kUart0RxIrqBit = 1u << 0;
+inline constexpr std::uint32_t kUart0TxIrqBit = 1u << 1;
+
+// The key slot (docs/port.md, "Key provisioning"): 256 bytes at the top of
+// SSRAM2/3 that the linker script keeps free and the reset handler never
+// clears. On this QEMU machine it stands in for an HSM: hil_sim has QEMU's
+// generic loader write the link key and this boot's entropy there before the
+// core starts (-device loader,file=...,addr=kKeySlotAddress,force-raw=on).
+inline constexpr std::uintptr_t kKeySlotAddress = 0x203FFF00u;
+struct KeySlot {
+  std::uint8_t magic[4];     // "ITPK" when provisioned
+  std::uint8_t key[32];      // the link's long-term key
+  std::uint8_t entropy[32];  // differs on every boot
+};
+inline constexpr std::uint8_t kKeySlotMagic[4] = {'I', 'T', 'P', 'K'};
 
 // Start-up paints every free stack word with this pattern; the first word
 // from the bottom that differs marks the deepest use (docs/memory.md).
@@ -47,6 +64,7 @@ inline constexpr std::uint32_t kStackPaint = 0x5AC4C0DEu;
 
 inline CmsdkUart& uart0() { return *reinterpret_cast<CmsdkUart*>(kUart0Base); }
 inline CmsdkUart& uart1() { return *reinterpret_cast<CmsdkUart*>(kUart1Base); }
+inline volatile KeySlot& key_slot() { return *reinterpret_cast<volatile KeySlot*>(kKeySlotAddress); }
 inline CmsdkTimer& timer0() { return *reinterpret_cast<CmsdkTimer*>(kTimer0Base); }
 
 }  // namespace port::mps2

@@ -27,11 +27,13 @@ void uart_put_blocking(mps2::CmsdkUart& uart, std::uint8_t byte) {
 void init() {
   auto& link = mps2::uart0();
   link.bauddiv = 16u;
-  link.ctrl = mps2::kUartTxEnable | mps2::kUartRxEnable | mps2::kUartRxIntEnable;
-  // The receive interrupt only wakes the core from WFI (idle()): interrupts
-  // stay masked by PRIMASK and no handler ever runs.
+  link.ctrl = mps2::kUartTxEnable | mps2::kUartRxEnable | mps2::kUartRxIntEnable | mps2::kUartTxIntEnable;
+  // The receive and transmit interrupts only wake the core from WFI (idle()):
+  // interrupts stay masked by PRIMASK and no handler ever runs. Both are
+  // needed: a reply that fills the transmitter must wake the core when the
+  // line drains, not only when the host sends the next byte.
   __asm volatile("cpsid i" ::: "memory");
-  *reinterpret_cast<volatile std::uint32_t*>(mps2::kNvicIser0) = mps2::kUart0RxIrqBit;
+  *reinterpret_cast<volatile std::uint32_t*>(mps2::kNvicIser0) = mps2::kUart0RxIrqBit | mps2::kUart0TxIrqBit;
   auto& log = mps2::uart1();
   log.bauddiv = 16u;
   log.ctrl = mps2::kUartTxEnable;
@@ -84,13 +86,17 @@ void log_line(const char* text) {
 
 void idle() {
   static_cast<void>(counter_ticks());  // keeps the 64-bit extension current
-  // Sleep until a byte arrives. Clear the latched interrupt first; a byte that
-  // lands after the check leaves it pending, so WFI returns at once. Under
-  // QEMU this hands the host thread to the serial back end instead of spinning.
+  // Sleep until a byte arrives or the transmitter has room again. Clear the
+  // latched interrupts first; an event after the state check leaves its
+  // interrupt pending, so WFI returns at once. Under QEMU this hands the host
+  // thread to the serial back end instead of spinning. A waiting received
+  // byte ends the wait only when the transmitter is not full: send_all()
+  // does not read, it waits for room.
   auto& uart = mps2::uart0();
-  uart.intstatus = mps2::kUartRxInt;
-  *reinterpret_cast<volatile std::uint32_t*>(mps2::kNvicIcpr0) = mps2::kUart0RxIrqBit;
-  if ((uart.state & mps2::kUartRxFull) == 0u) {
+  uart.intstatus = mps2::kUartRxInt | mps2::kUartTxInt;
+  *reinterpret_cast<volatile std::uint32_t*>(mps2::kNvicIcpr0) = mps2::kUart0RxIrqBit | mps2::kUart0TxIrqBit;
+  const std::uint32_t state = uart.state;
+  if ((state & mps2::kUartTxFull) != 0u || (state & mps2::kUartRxFull) == 0u) {
     __asm volatile("dsb\n\twfi" ::: "memory");
   }
 }
@@ -111,5 +117,29 @@ std::uint32_t stack_peak_bytes() {
 }
 
 bool keep_running() { return true; }
+
+bool link_key(std::span<std::uint8_t, 32> key) {
+  volatile mps2::KeySlot& slot = mps2::key_slot();
+  for (std::size_t i = 0; i < 4; ++i) {  // magic
+    if (slot.magic[i] != mps2::kKeySlotMagic[i]) {
+      return false;
+    }
+  }
+  for (std::size_t i = 0; i < key.size(); ++i) {  // 32 bytes
+    key[i] = slot.key[i];
+  }
+  return true;
+}
+
+bool boot_entropy(std::span<std::uint8_t, 32> entropy) {
+  volatile mps2::KeySlot& slot = mps2::key_slot();
+  std::uint8_t any = 0;
+  for (std::size_t i = 0; i < entropy.size(); ++i) {  // 32 bytes, used once
+    entropy[i] = slot.entropy[i];
+    any = static_cast<std::uint8_t>(any | entropy[i]);
+    slot.entropy[i] = 0;
+  }
+  return any != 0u && slot.magic[0] == mps2::kKeySlotMagic[0];
+}
 
 }  // namespace port

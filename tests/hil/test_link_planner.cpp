@@ -16,7 +16,7 @@ TEST_CASE("Scene and Plan messages round-trip within float precision") {
   const World w = generate_scene(7, 3);
   auto scene = std::make_unique<itp::scene::Scene>();
   REQUIRE(make_planner_scene(w, ego_at_start(w), 1.0, Prediction::kGroundTruth, *scene).ok);
-  std::vector<std::uint8_t> body(itp::config::kMaxPayloadBytes);
+  std::vector<std::uint8_t> body(itp::link::kMaxSceneBytes<itp::DefaultConfig>);
   itp::link::SceneHeader h{42, 1.0, true};
   const std::size_t n = itp::link::encode_scene(h, *scene, 1, body);
   REQUIRE(n > 0);
@@ -68,16 +68,16 @@ TEST_CASE("a scene and a plan filled to capacity encode to the computed maximum 
     while (o.trajectory.push_back({})) {
     }
   }
-  std::vector<std::uint8_t> body(itp::config::kMaxPayloadBytes);
+  std::vector<std::uint8_t> body(itp::link::kMaxSceneBytes<Cfg>);
   CHECK(itp::link::encode_scene({}, *scene, 1, body) == itp::link::kMaxSceneBytes<Cfg>);
   auto plan = std::make_unique<itp::planner::Plan>();
   while (plan->trajectory.push_back({})) {
   }
   while (plan->decisions.push_back({})) {
   }
-  CHECK(itp::link::encode_plan(1, 0, 0, *plan, body) == itp::link::kMaxPlanBytes<Cfg>);
-  // One payload holds the largest of either (checked at compile time as well).
-  CHECK(itp::link::kMaxSceneBytes<Cfg> <= itp::config::kMaxPayloadBytes);
+  CHECK(itp::link::encode_plan(itp::link::PlanHeader{}, *plan, body) == itp::link::kMaxPlanBytes<Cfg>);
+  // One secured message holds the largest of either (checked at compile time as well).
+  CHECK(itp::link::kMaxSceneBytes<Cfg> + itp::link::kSecuredOverhead <= itp::link::kMaxMessageBytes);
 }
 
 TEST_CASE("the host-port firmware plans generated scenes like the in-process planner") {
@@ -93,7 +93,7 @@ TEST_CASE("the host-port firmware plans generated scenes like the in-process pla
     const World w = generate_scene(11, i);
     REQUIRE(make_planner_scene(w, ego_at_start(w), 0.0, Prediction::kConstantVelocity, *scene).ok);
     // The in-process planner gets the scene as the firmware sees it (float on the wire).
-    std::vector<std::uint8_t> body(itp::config::kMaxPayloadBytes);
+    std::vector<std::uint8_t> body(itp::link::kMaxSceneBytes<itp::DefaultConfig>);
     const std::size_t n = itp::link::encode_scene({1, 0.0, true}, *scene, 1, body);
     itp::link::SceneHeader h;
     auto wire = std::make_unique<itp::scene::Scene>();

@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -12,7 +13,7 @@ using itp::link::MessageType;
 TEST_CASE("frames round trip through the streaming decoder") {
   std::mt19937 rng(11);
   FrameDecoder dec;
-  const std::size_t sizes[] = {0, 1, 5, 253, 254, 255, 1000, itp::config::kMaxPayloadBytes};
+  const std::size_t sizes[] = {0, 1, 5, 253, 254, 255, 1000, itp::link::kMaxSegmentBytes};
   for (std::size_t size : sizes) {
     const auto payload = link_test::random_bytes(rng, size, 20);
     const auto seq = static_cast<std::uint16_t>(rng());
@@ -29,7 +30,9 @@ TEST_CASE("frames round trip through the streaming decoder") {
         CHECK(f.header.version == itp::link::kProtocolVersion);
         CHECK(f.header.type == MessageType::kPing);
         CHECK(f.header.sequence == seq);
-        CHECK(std::vector<std::uint8_t>(f.payload.begin(), f.payload.end()) == payload);
+        CHECK(f.header.segment_count == 1);
+        CHECK(f.header.message_length == payload.size());
+        CHECK(std::vector<std::uint8_t>(f.chunk.begin(), f.chunk.end()) == payload);
       }
     }
     CHECK(frames == 1);
@@ -37,8 +40,8 @@ TEST_CASE("frames round trip through the streaming decoder") {
   CHECK(dec.counters().dropped() == 0);
 }
 
-TEST_CASE("a payload longer than the maximum is refused by the encoder") {
-  std::vector<std::uint8_t> big(itp::config::kMaxPayloadBytes + 1);
+TEST_CASE("a single-frame payload longer than a segment is refused by the encoder") {
+  std::vector<std::uint8_t> big(itp::link::kMaxSegmentBytes + 1);
   std::vector<std::uint8_t> out(itp::link::kMaxWireFrameBytes + 64);
   CHECK(itp::link::encode_frame(MessageType::kPing, 1, big, out) == 0);
   std::vector<std::uint8_t> tiny(8);
@@ -100,7 +103,7 @@ TEST_CASE("rejections are counted by reason") {
   CHECK(dec.counters().cobs_errors == 1);
 
   // A valid CRC over a header with another version number.
-  std::vector<std::uint8_t> raw{2, 1, 1, 0, 0, 0};
+  std::vector<std::uint8_t> raw{3, 1, 1, 0, 0, 0, 0, 1, 0, 0};
   const std::uint32_t c = itp::link::crc32(raw);
   for (int i = 0; i < 4; ++i) {
     raw.push_back(static_cast<std::uint8_t>(c >> (8 * i)));
@@ -117,4 +120,68 @@ TEST_CASE("rejections are counted by reason") {
   CHECK(link_test::feed(dec, wire) == 1);
   CHECK(dec.counters().frames_ok == 1);
   CHECK(dec.counters().dropped() == 4);
+}
+
+namespace {
+
+// A raw frame (header fields given) with a correct CRC, COBS-encoded.
+std::vector<std::uint8_t> raw_frame(std::uint16_t length, std::uint8_t index, std::uint8_t count, std::size_t chunk) {
+  std::vector<std::uint8_t> raw{itp::link::kProtocolVersion, 0x20, 5, 0,
+                                static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8),
+                                index, count, 0, 0};
+  raw.resize(raw.size() + chunk, 0x11);
+  const std::uint32_t c = itp::link::crc32(raw);
+  for (int i = 0; i < 4; ++i) raw.push_back(static_cast<std::uint8_t>(c >> (8 * i)));
+  std::vector<std::uint8_t> enc(raw.size() + 16);
+  itp::link::CobsWriter w(enc);
+  w.push(raw);
+  enc.resize(w.finish());
+  enc.insert(enc.begin(), 0u);
+  enc.push_back(0u);
+  return enc;
+}
+
+}  // namespace
+
+TEST_CASE("every segment of a message encodes and decodes with its layout") {
+  std::mt19937 rng(21);
+  for (std::size_t length : {1u, 31u, 32u, 33u, 1000u, 2751u, 9963u}) {
+    for (std::size_t max_segment : {32u, 100u, 1024u}) {
+      const auto message = link_test::random_bytes(rng, length, 10);
+      const std::size_t s = std::max<std::size_t>(max_segment, (length + 254) / 255);  // <= 255 segments
+      const std::size_t count = itp::link::segments_for(length, s);
+      std::vector<std::uint8_t> rebuilt(length, 0xEE);
+      FrameDecoder dec;
+      std::vector<std::uint8_t> out(itp::link::kMaxWireFrameBytes);
+      for (std::size_t i = 0; i < count; ++i) {
+        itp::link::FrameHeader h;
+        h.type = MessageType::kPlanRequest;
+        h.sequence = 3;
+        h.message_length = static_cast<std::uint16_t>(length);
+        h.segment_index = static_cast<std::uint8_t>(i);
+        h.segment_count = static_cast<std::uint8_t>(count);
+        const std::size_t n = itp::link::encode_segment(h, message, out);
+        REQUIRE(n > 0);
+        REQUIRE(link_test::feed(dec, std::span<const std::uint8_t>(out.data(), n)) == 1);
+        const auto& f = dec.frame();
+        CHECK(f.header.segment_index == i);
+        CHECK(f.chunk.size() <= s);
+        std::copy(f.chunk.begin(), f.chunk.end(), rebuilt.begin() + static_cast<long>(itp::link::segment_offset(length, count, i)));
+      }
+      CHECK(rebuilt == message);
+    }
+  }
+}
+
+TEST_CASE("frames whose segment layout is impossible are length errors") {
+  FrameDecoder dec;
+  CHECK(link_test::feed(dec, raw_frame(10, 0, 1, 10)) == 1);  // the valid one
+  CHECK(link_test::feed(dec, raw_frame(10, 0, 1, 9)) == 0);   // chunk shorter than the length says
+  CHECK(link_test::feed(dec, raw_frame(10, 1, 1, 10)) == 0);  // index beyond the count
+  CHECK(link_test::feed(dec, raw_frame(10, 0, 0, 10)) == 0);  // no segments
+  CHECK(link_test::feed(dec, raw_frame(9, 0, 6, 2)) == 0);    // 6 x 2 bytes for 9: an empty last segment
+  CHECK(link_test::feed(dec, raw_frame(2049, 1, 2, 1024)) == 0);  // S = 1025, above the segment maximum
+  CHECK(link_test::feed(dec, raw_frame(0, 0, 2, 0)) == 0);    // an empty message in two segments
+  CHECK(dec.counters().length_errors == 6);
+  CHECK(link_test::feed(dec, raw_frame(2000, 1, 2, 1000)) == 1);  // the second of two
 }

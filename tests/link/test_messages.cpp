@@ -12,9 +12,12 @@ TEST_CASE("Pong encodes and decodes every field") {
   Pong pong;
   pong.nonce = 0xDEADBEEFu;
   set_build_id(pong, "itplan-test-build");
-  pong.counters.frames_ok = 5;
-  pong.counters.crc_errors = 2;
-  pong.counters.overflows = 1;
+  pong.counters.link.frames_ok = 5;
+  pong.counters.link.crc_errors = 2;
+  pong.counters.link.overflows = 1;
+  pong.counters.auth.bad_tag = 7;
+  pong.counters.auth.stale = 8;
+  pong.counters.duplicates = 9;
   pong.ticks = 0x0123456789ABCDEFull;
   pong.tick_hz = 25000000u;
   std::array<std::uint8_t, kPongBytes> buf{};
@@ -23,10 +26,14 @@ TEST_CASE("Pong encodes and decodes every field") {
   REQUIRE(decode(buf, back));
   CHECK(back.nonce == 0xDEADBEEFu);
   CHECK(std::strcmp(back.build_id.data(), "itplan-test-build") == 0);
-  CHECK(back.counters.frames_ok == 5);
-  CHECK(back.counters.crc_errors == 2);
-  CHECK(back.counters.overflows == 1);
-  CHECK(back.counters.dropped() == 3);
+  CHECK(back.counters.link.frames_ok == 5);
+  CHECK(back.counters.link.crc_errors == 2);
+  CHECK(back.counters.link.overflows == 1);
+  CHECK(back.counters.link.dropped() == 3);
+  CHECK(back.counters.auth.bad_tag == 7);
+  CHECK(back.counters.auth.stale == 8);
+  CHECK(back.counters.auth.refused() == 15);
+  CHECK(back.counters.duplicates == 9);
   CHECK(back.ticks == 0x0123456789ABCDEFull);
   CHECK(back.tick_hz == 25000000u);
 }

@@ -7,7 +7,7 @@
 
 #include "itp/link/qp_messages.hpp"
 
-using D = itp::qp::PathQpDims<double>;
+using D = itp::qp::PathQpDims<double, itp::DefaultConfig>;
 
 TEST_CASE("a QpSolve request round-trips every number, infinities included") {
   auto a = std::make_unique<itp::qp::QpProblem<D>>();
@@ -26,10 +26,10 @@ TEST_CASE("a QpSolve request round-trips every number, infinities included") {
     a->lba[r] = -u(rng) - 3;
     a->uba[r] = r % 2 ? std::numeric_limits<double>::infinity() : 5;
   }
-  std::vector<std::uint8_t> body(itp::config::kMaxPayloadBytes);
+  std::vector<std::uint8_t> body(itp::link::kMaxQpRequestBytes<D>);
   const std::size_t n = itp::link::encode_qp_request(*a, body);
   REQUIRE(n > 0);
-  REQUIRE(n <= itp::config::kMaxPayloadBytes);
+  REQUIRE(n <= itp::link::kMaxQpRequestBytes<D>);
   REQUIRE(itp::link::decode_qp_request(std::span<const std::uint8_t>(body.data(), n), *b));
   CHECK(b->n == 63);
   CHECK(b->m == 300);
@@ -54,7 +54,7 @@ TEST_CASE("a QpSolve request round-trips every number, infinities included") {
 }
 
 TEST_CASE("a QpSolve reply round-trips") {
-  itp::link::QpSolveReply r;
+  itp::link::QpSolveReply<D> r;
   r.status = itp::qp::QpStatus::kInfeasible;
   r.iterations = 17;
   r.n = 5;
@@ -64,7 +64,7 @@ TEST_CASE("a QpSolve reply round-trips") {
   std::vector<std::uint8_t> body(1024);
   const std::size_t n = itp::link::encode(r, body);
   REQUIRE(n > 0);
-  itp::link::QpSolveReply back;
+  itp::link::QpSolveReply<D> back;
   REQUIRE(itp::link::decode(std::span<const std::uint8_t>(body.data(), n), back));
   CHECK(back.status == itp::qp::QpStatus::kInfeasible);
   CHECK(back.iterations == 17);

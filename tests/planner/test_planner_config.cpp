@@ -86,7 +86,7 @@ TEST_CASE("configuration: a scene beyond the compact capacities is rejected by t
   for (int i = 0; i < CompactConfig::kMaxStaticObstacles + 1; ++i) {
     add_static(big, 10 + i, 30.0 + 10.0 * i, 3.5);
   }
-  std::array<std::uint8_t, itp::config::kMaxPayloadBytes> buf{};
+  std::array<std::uint8_t, itp::link::kMaxSceneBytes<itp::DefaultConfig>> buf{};
   const std::size_t n = itp::link::encode_scene(itp::link::SceneHeader{}, big, 1, buf);
   REQUIRE(n > 0);
   auto compact = std::make_unique<CompactScene>();

@@ -28,6 +28,7 @@ struct Case {
   const char* name;
   R expected;
   std::function<void(Scene&)> mutate;
+  Scalar now = Scalar(0);  // [s] the scene time it is validated at
 };
 
 const std::vector<Case>& cases() {
@@ -96,10 +97,39 @@ const std::vector<Case>& cases() {
          s.dynamic_obstacles[0].trajectory[0].t = Scalar(0.5);
          s.dynamic_obstacles[0].trajectory[1].t = Scalar(0.2);
        }},
-      {"negative prediction time", R::kPredictionTimeOutOfRange,
-       [](Scene& s) { s.dynamic_obstacles[0].trajectory[0].t = Scalar(-0.1); }},
+      {"prediction two hours before now", R::kPredictionTimeOutOfRange,
+       [](Scene& s) { s.dynamic_obstacles[0].trajectory[0].t = Scalar(-7200); }},
+      {"prediction two hours after now", R::kPredictionTimeOutOfRange,
+       [](Scene& s) { s.dynamic_obstacles[0].trajectory[1].t = Scalar(7200); }},
+      {"predictions of t = 0 at now = 2 h", R::kPredictionTimeOutOfRange, [](Scene&) {}, Scalar(7200)},
       {"obstacle at 90 m/s", R::kObstacleSpeedOutOfRange,
        [](Scene& s) { s.dynamic_obstacles[0].trajectory[1].v = Scalar(90); }},
+      // Issue 13, defect 1: the scene time itself.
+      {"scene time NaN", R::kSceneTimeOutOfRange, [](Scene&) {}, kNaN},
+      {"scene time +Inf", R::kSceneTimeOutOfRange, [](Scene&) {}, kInf},
+      {"scene time -Inf", R::kSceneTimeOutOfRange, [](Scene&) {}, -kInf},
+      {"scene time 1e300", R::kSceneTimeOutOfRange, [](Scene&) {}, std::numeric_limits<Scalar>::max()},
+      {"scene time -1 s", R::kSceneTimeOutOfRange, [](Scene&) {}, Scalar(-1)},
+      // Issue 13, defect 9: headings bounded, sizes and limits bounded below.
+      {"ego heading 1e30", R::kHeadingOutOfRange, [](Scene& s) { s.ego.state.heading = Scalar(1e30); }},
+      {"static obstacle heading 30 rad", R::kHeadingOutOfRange,
+       [](Scene& s) { s.static_obstacles[0].heading = Scalar(30); }},
+      {"prediction heading -1e30", R::kHeadingOutOfRange,
+       [](Scene& s) { s.dynamic_obstacles[0].trajectory[1].heading = Scalar(-1e30); }},
+      {"static obstacle 1e-30 m long", R::kObstacleSizeOutOfRange,
+       [](Scene& s) { s.static_obstacles[0].length = Scalar(1e-30); }},
+      {"dynamic obstacle 1e-30 m wide", R::kObstacleSizeOutOfRange,
+       [](Scene& s) { s.dynamic_obstacles[0].width = Scalar(1e-30); }},
+      {"ego 1e-30 m wide", R::kEgoGeometryOutOfRange, [](Scene& s) { s.ego.geometry.width = Scalar(1e-30); }},
+      {"ego wheelbase 1e-30 m", R::kEgoGeometryOutOfRange,
+       [](Scene& s) { s.ego.geometry.wheelbase = Scalar(1e-30); }},
+      {"ego a_max 1e-30", R::kEgoLimitsOutOfRange, [](Scene& s) { s.ego.limits.a_max = Scalar(1e-30); }},
+      {"ego a_min -1e-30", R::kEgoLimitsOutOfRange, [](Scene& s) { s.ego.limits.a_min = Scalar(-1e-30); }},
+      {"ego lateral limit 1e-30", R::kEgoLimitsOutOfRange,
+       [](Scene& s) { s.ego.limits.lat_acc_max = Scalar(1e-30); }},
+      {"ego curvature limit 1e-30", R::kEgoLimitsOutOfRange,
+       [](Scene& s) { s.ego.limits.kappa_max = Scalar(1e-30); }},
+      {"speed limit 1e-30", R::kSpeedLimitOutOfRange, [](Scene& s) { s.road.speed_limit = Scalar(1e-30); }},
   };
   return all;
 }
@@ -110,9 +140,25 @@ TEST_CASE("The baseline scene is valid, and validating it does not allocate") {
   static Scene s;
   s = scene_test::baseline_scene();
   test_support::HeapGuard guard;
-  const auto r = itp::scene::validate(s);
+  const auto r = itp::scene::validate(s, Scalar(0));
   CHECK(r.ok());
   CHECK(r.status() == itp::PlanStatus::kOk);
+  CHECK(itp::scene::validate(s).ok());
+}
+
+// Issue 13, defect 3: prediction times are judged relative to the scene
+// time, so a scene with moving obstacles keeps validating after an hour,
+// a day, a month. (Before, t above 3600 s was rejected outright.)
+TEST_CASE("Predictions relative to the scene time: nothing expires after an hour or a day") {
+  static Scene s;
+  for (const double now : {3592.0, 4000.0, 86400.0, 3.0e6}) {
+    s = scene_test::baseline_scene();
+    for (auto& p : s.dynamic_obstacles[0].trajectory) p.t += Scalar(now);
+    CHECK_MESSAGE(itp::scene::validate(s).ok(), "now = ", now, ": ", itp::scene::to_string(itp::scene::validate(s).reason));
+    CHECK(itp::scene::validate(s, Scalar(now)).ok());
+    // The same predictions an hour and a half stale are out of range.
+    CHECK(itp::scene::validate(s, Scalar(now + 5400)).reason == R::kPredictionTimeOutOfRange);
+  }
 }
 
 TEST_CASE("Each invalid input is rejected with its own reason") {
@@ -120,7 +166,7 @@ TEST_CASE("Each invalid input is rejected with its own reason") {
     SUBCASE(c.name) {
       Scene s = scene_test::baseline_scene();
       c.mutate(s);
-      const auto r = itp::scene::validate(s);
+      const auto r = itp::scene::validate(s, c.now);
       CHECK_MESSAGE(r.reason == c.expected, c.name, ": got ", itp::scene::to_string(r.reason));
       CHECK(r.status() == itp::PlanStatus::kInvalidInput);
     }
@@ -136,7 +182,7 @@ TEST_CASE("Every reason is covered by a case here or by the JSON reader tests") 
     covered.insert(r);
   }
   std::set<std::string> names;
-  for (int v = 1; v <= static_cast<int>(R::kObstacleSpeedOutOfRange); ++v) {
+  for (int v = 1; v <= static_cast<int>(R::kHeadingOutOfRange); ++v) {
     const R r = static_cast<R>(v);
     CHECK_MESSAGE(covered.count(r) == 1, "no test case for ", itp::scene::to_string(r));
     const std::string name = itp::scene::to_string(r);

@@ -43,6 +43,32 @@ class DeadEndpoint final : public PlannerEndpoint {
 
 double final_speed(const SceneRunResult& r) { return r.trace.empty() ? -1.0 : r.trace.back().v; }
 
+// The in-process planner until cycle `good`, then every reply is lost.
+class FailingEndpoint final : public PlannerEndpoint {
+ public:
+  explicit FailingEndpoint(int good) : good_(good) {}
+  void reset() override { inner_.reset(); }
+  EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) override {
+    if (cycle_++ >= good_) {
+      EndpointResult r;
+      r.error = "lost";
+      return r;
+    }
+    const EndpointResult r = inner_.plan(scene, now, out);
+    last_ = out;
+    last_now_ = now;
+    return r;
+  }
+  std::string name() const override { return "failing"; }
+  itp::planner::Plan last_;  // the last plan delivered
+  double last_now_ = 0.0;
+
+ private:
+  InprocEndpoint inner_;
+  int good_;
+  int cycle_ = 0;
+};
+
 }  // namespace
 
 TEST_CASE("closed loop: free straight road for 6 s, no collision or departure, speeds up to the limit") {
@@ -137,6 +163,37 @@ TEST_CASE("closed loop: lost replies are link errors and the ego brakes to a sto
   CHECK(r.summary.max_abs_lon_acc == doctest::Approx(opt.emergency_decel));
   // Stopping distance at the emergency rate.
   CHECK(r.summary.progress_m == doctest::Approx(8.0 * 8.0 / (2.0 * opt.emergency_decel)).epsilon(0.02));
+}
+
+// Issue 13: when plans stop arriving the ego follows the last valid plan
+// while it lasts, then stands still at its end (it used to brake where it was
+// at the first lost reply).
+TEST_CASE("closed loop: plans lost after 2 s: the ego follows the last plan and stops by its end, on its path") {
+  const World w = straight_road(400.0, 12.0, 15.0);
+  FailingEndpoint ep(20);
+  RunOptions opt;
+  opt.duration = 12.0;
+  const SceneRunResult r = run_scene(w, ep, opt);
+  CHECK(r.summary.link_errors == 100);
+  REQUIRE_FALSE(ep.last_.trajectory.empty());
+  const auto& last = ep.last_.trajectory;
+  // Where the last plan ends: the ego stands still there or before, near its path.
+  const auto& end = last.back();
+  const auto& stop = r.trace.back();
+  CHECK(final_speed(r) < 0.05);
+  CHECK(stop.pose.x <= end.x + 0.5);
+  CHECK(std::fabs(stop.pose.y - end.y) < 0.5);
+  // It kept driving for a while after the loss (the plan still held), not a
+  // stop right at the first lost cycle: beyond the emergency stopping distance.
+  const double x_at_loss = r.trace[20].pose.x;
+  const double v_at_loss = r.trace[20].v;
+  CHECK(stop.pose.x - x_at_loss > v_at_loss * v_at_loss / (2.0 * opt.emergency_decel) + 5.0);
+  // It stood still by the plan's end time (last plan started at 1.9 s, lasts 7 s).
+  for (const auto& e : r.trace) {
+    if (e.t >= ep.last_now_ + last.back().t + 0.05) CHECK(e.v < 0.05);
+  }
+  CHECK_FALSE(r.summary.collided());
+  CHECK_FALSE(r.summary.departed());
 }
 
 TEST_CASE("closed loop: report/1 from the suite aggregator has every required key") {

@@ -120,6 +120,27 @@ TEST_CASE("scene/1: malformed input is rejected with a clear message, never thro
   CHECK_FALSE(load_scene_file("/nonexistent/dir/scene.json"));
 }
 
+// Issue 13, defect 6: an id beyond the planner's 32 bits was wrapped
+// (4294967297 became 1, then a "duplicate" of obstacle 1).
+TEST_CASE("scene/1: obstacle ids beyond 32 bits are refused by name, never wrapped") {
+  for (const char* text : {R"(4294967297)", R"(2147483648)", R"(-2147483649)", R"(18446744073709551615)"}) {
+    for (const char* list : {"static_obstacles", "dynamic_obstacles"}) {
+      nlohmann::json j = nlohmann::json::parse(kExample);
+      j[list][0]["id"] = nlohmann::json::parse(text);
+      const SceneParseResult r = parse_scene(j);
+      CHECK_FALSE_MESSAGE(r, list, " id ", text);
+      CHECK(r.error.find("\"id\" must be an integer in [-2147483648, 2147483647]") != std::string::npos);
+    }
+  }
+  nlohmann::json j = nlohmann::json::parse(kExample);
+  j["static_obstacles"][0]["id"] = 2147483647;
+  j["dynamic_obstacles"][0]["id"] = -2147483648LL;
+  const SceneParseResult r = parse_scene(j);
+  REQUIRE(r);
+  CHECK(r.world->static_obstacles[0].id == 2147483647);
+  CHECK(r.world->dynamic_obstacles[0].id == -2147483647 - 1);
+}
+
 TEST_CASE("pose_at: absent before it appears, interpolates, wraps heading, extrapolates") {
   DynamicObstacle d;
   d.length = 4.5;

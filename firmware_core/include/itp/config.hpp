@@ -43,12 +43,31 @@ inline constexpr Scalar kMinLaneWidth = Scalar(2);              // [m]
 inline constexpr Scalar kMaxLaneWidth = Scalar(6);              // [m]
 inline constexpr Scalar kMaxBoundaryOffset = Scalar(50);        // [m] |l| of a road boundary
 inline constexpr Scalar kMaxObjectSize = Scalar(30);            // [m] box length/width
+// Sizes and limits have lower bounds too: a 1e-30 m box or a 1e-30 m/s^2
+// braking limit is a corrupted value, not a vehicle.
+inline constexpr Scalar kMinObjectSize = Scalar(0.05);          // [m] box length/width, wheelbase
+inline constexpr Scalar kMinSpeedLimit = Scalar(1);             // [m/s] road speed limit
+inline constexpr Scalar kMinLimitAcceleration = Scalar(0.5);    // [m/s^2] |a_min|, a_max, lat_acc_max
+inline constexpr Scalar kMinLimitCurvature = Scalar(0.01);      // [1/m] kappa_max (radius <= 100 m)
+// Headings need not be wrapped, but beyond four turns either way a heading
+// is no longer an angle anyone meant (and float32 on the link keeps 2e-6 rad
+// up to here).
+inline constexpr Scalar kMaxAbsoluteHeading = Scalar(25.132741228718345);  // [rad] 8 pi
 inline constexpr Scalar kMaxCoordinate = Scalar(1.0e5);         // [m] |x|, |y|
-inline constexpr Scalar kMaxPredictionTime = Scalar(3600);      // [s] obstacle trajectory t
+// Scene time: the largest `now` at which Scalar still resolves 1 ms
+// (double: 1e9 s, ulp 1.2e-7 s; float: 1e4 s, ulp 1e-3 s). A vehicle that
+// runs longer restarts its scene clock (a new session).
+inline constexpr Scalar kMaxSceneTime = sizeof(Scalar) >= 8 ? Scalar(1e9) : Scalar(1e4);  // [s]
+// Obstacle trajectory samples are judged relative to the scene time: |t - now|
+// at most this, so that nothing expires however long the vehicle runs.
+inline constexpr Scalar kMaxPredictionTime = Scalar(3600);      // [s] |t - now| of a sample
 inline constexpr Scalar kMaxEgoOffsetFromReference = Scalar(10);  // [m] ego to polyline
 
 // --- Serial link -------------------------------------------------------------
-inline constexpr std::size_t kMaxPayloadBytes = 32768;   // one message body (a path QP or a scene)
+// A message travels in segments of at most this many bytes (docs/protocol.md):
+// the decoder's buffer holds one segment; message buffers are sized by the
+// largest message of the configuration (link/planner_messages.hpp).
+inline constexpr std::size_t kMaxSegmentBytes = 1024;
 inline constexpr std::size_t kBuildIdBytes = 48;         // fixed field in Pong
 
 }  // namespace config

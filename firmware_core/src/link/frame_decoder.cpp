@@ -75,12 +75,9 @@ DecodeResult FrameDecoder::finish_frame() {
     ++counters_.length_errors;
     return DecodeResult::kLengthError;
   }
-  const std::uint16_t length = read_u16(p + 4);
-  if (length > config::kMaxPayloadBytes || raw != kHeaderBytes + length + kCrcBytes) {
-    ++counters_.length_errors;
-    return DecodeResult::kLengthError;
-  }
-  const std::size_t checked = kHeaderBytes + length;
+  // The CRC is the last 4 bytes and covers everything before them in every
+  // protocol version, so a frame of another version is told from noise.
+  const std::size_t checked = raw - kCrcBytes;
   if (crc32(std::span<const std::uint8_t>(p, checked)) != read_u32(p + checked)) {
     ++counters_.crc_errors;
     return DecodeResult::kCrcError;
@@ -89,11 +86,23 @@ DecodeResult FrameDecoder::finish_frame() {
     ++counters_.version_errors;
     return DecodeResult::kVersionError;
   }
+  const std::uint16_t length = read_u16(p + 4);
+  const std::uint8_t index = p[6];
+  const std::uint8_t count = p[7];
+  const std::size_t chunk = checked - kHeaderBytes;
+  if (!valid_layout(length, count, index) || chunk != segment_length(length, count, index)) {
+    ++counters_.length_errors;
+    return DecodeResult::kLengthError;
+  }
   frame_.header.version = p[0];
   frame_.header.type = static_cast<MessageType>(p[1]);
   frame_.header.sequence = read_u16(p + 2);
-  frame_.header.payload_length = length;
-  frame_.payload = std::span<const std::uint8_t>(p + kHeaderBytes, length);
+  frame_.header.message_length = length;
+  frame_.header.segment_index = index;
+  frame_.header.segment_count = count;
+  frame_.header.flags = p[8];
+  frame_.header.answer_units = p[9];
+  frame_.chunk = std::span<const std::uint8_t>(p + kHeaderBytes, chunk);
   ++counters_.frames_ok;
   return DecodeResult::kFrame;
 }

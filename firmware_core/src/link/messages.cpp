@@ -5,23 +5,25 @@
 namespace itp::link {
 namespace {
 
-void put_counters(ByteWriter& w, const LinkCounters& c) {
-  w.u32(c.frames_ok);
-  w.u32(c.cobs_errors);
-  w.u32(c.length_errors);
-  w.u32(c.crc_errors);
-  w.u32(c.version_errors);
-  w.u32(c.overflows);
+void put_counters(ByteWriter& w, const FirmwareCounters& c) {
+  for (std::uint32_t v : {c.link.frames_ok, c.link.cobs_errors, c.link.length_errors, c.link.crc_errors,
+                          c.link.version_errors, c.link.overflows, c.auth.accepted, c.auth.bad_tag,
+                          c.auth.stale, c.auth.no_session, c.auth.handshakes, c.auth.handshakes_refused,
+                          c.auth.malformed, c.auth.no_key, c.messages, c.too_large, c.resent, c.duplicates}) {
+    w.u32(v);  // kCounterWords values
+  }
 }
 
-LinkCounters get_counters(ByteReader& r) {
-  LinkCounters c;
-  c.frames_ok = r.u32();
-  c.cobs_errors = r.u32();
-  c.length_errors = r.u32();
-  c.crc_errors = r.u32();
-  c.version_errors = r.u32();
-  c.overflows = r.u32();
+FirmwareCounters get_counters(ByteReader& r) {
+  FirmwareCounters c;
+  std::uint32_t* fields[] = {&c.link.frames_ok, &c.link.cobs_errors, &c.link.length_errors, &c.link.crc_errors,
+                             &c.link.version_errors, &c.link.overflows, &c.auth.accepted, &c.auth.bad_tag,
+                             &c.auth.stale, &c.auth.no_session, &c.auth.handshakes, &c.auth.handshakes_refused,
+                             &c.auth.malformed, &c.auth.no_key, &c.messages, &c.too_large, &c.resent, &c.duplicates};
+  static_assert(sizeof(fields) / sizeof(fields[0]) == kCounterWords, "Pong counter layout");
+  for (std::uint32_t* f : fields) {  // kCounterWords values
+    *f = r.u32();
+  }
   return c;
 }
 
@@ -52,6 +54,21 @@ std::size_t encode(const ErrorReply& msg, std::span<std::uint8_t> out) {
   ByteWriter w(out);
   w.u8(static_cast<std::uint8_t>(msg.code));
   w.u8(msg.request_type);
+  return finish(w);
+}
+
+std::size_t encode(const AuthErrorReply& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u8(static_cast<std::uint8_t>(msg.code));
+  w.u8(msg.request_type);
+  return finish(w);
+}
+
+std::size_t encode(const SegmentReport& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u8(msg.type);
+  w.u16(msg.sequence);
+  w.bytes(msg.segments.bytes());
   return finish(w);
 }
 
@@ -86,6 +103,23 @@ bool decode(std::span<const std::uint8_t> in, ErrorReply& msg) {
   ByteReader r(in);
   msg.code = static_cast<ErrorCode>(r.u8());
   msg.request_type = r.u8();
+  return r.done();
+}
+
+bool decode(std::span<const std::uint8_t> in, AuthErrorReply& msg) {
+  ByteReader r(in);
+  msg.code = static_cast<AuthStatus>(r.u8());
+  msg.request_type = r.u8();
+  return r.done();
+}
+
+bool decode(std::span<const std::uint8_t> in, SegmentReport& msg) {
+  ByteReader r(in);
+  msg.type = r.u8();
+  msg.sequence = r.u16();
+  for (std::uint8_t& b : msg.segments.bytes()) {  // SegmentSet::kBytes
+    b = r.u8();
+  }
   return r.done();
 }
 

@@ -11,13 +11,17 @@ constexpr std::uint8_t kResetFlag = 1u;
 float f(Scalar v) { return static_cast<float>(v); }
 Scalar s(float v) { return static_cast<Scalar>(v); }
 
+// Scene values go through ByteWriter::f32_of: a finite value beyond float
+// range fails the encoding instead of reaching the firmware as infinity.
+double d(Scalar v) { return static_cast<double>(v); }
+
 template <class Cfg>
 void put_boundary(ByteWriter& w, const scene::BasicBoundary<Cfg>& b) {
   w.u8(static_cast<std::uint8_t>(b.table.size()));
-  w.f32(f(b.offset));
+  w.f32_of(d(b.offset));
   for (const scene::BoundaryPoint& p : b.table) {  // <= kMaxBoundaryPoints
-    w.f32(f(p.s));
-    w.f32(f(p.l));
+    w.f32_of(d(p.s));
+    w.f32_of(d(p.l));
   }
 }
 
@@ -46,8 +50,8 @@ std::size_t encode_scene(const SceneHeader& h, const scene::BasicScene<Cfg>& sc,
   ByteWriter w(out);
   const double ox = sc.reference_line.empty() ? 0.0 : static_cast<double>(sc.reference_line[0].x);
   const double oy = sc.reference_line.empty() ? 0.0 : static_cast<double>(sc.reference_line[0].y);
-  const auto rx = [&](Scalar x) { return static_cast<float>(static_cast<double>(x) - ox); };
-  const auto ry = [&](Scalar y) { return static_cast<float>(static_cast<double>(y) - oy); };
+  const auto rx = [&](Scalar x) { w.f32_of(static_cast<double>(x) - ox); };
+  const auto ry = [&](Scalar y) { w.f32_of(static_cast<double>(y) - oy); };
   w.u32(h.cycle);
   w.f64(h.now);
   w.u8(h.reset ? kResetFlag : 0u);
@@ -55,37 +59,37 @@ std::size_t encode_scene(const SceneHeader& h, const scene::BasicScene<Cfg>& sc,
   w.f64(oy);
   w.u8(static_cast<std::uint8_t>(sc.reference_line.size()));
   for (const geometry::Point2& p : sc.reference_line) {  // <= kMaxReferencePoints
-    w.f32(rx(p.x));
-    w.f32(ry(p.y));
+    rx(p.x);
+    ry(p.y);
   }
-  w.f32(f(sc.road.lane_width));
-  w.f32(f(sc.road.target_lane_offset));
-  w.f32(f(sc.road.speed_limit));
+  w.f32_of(d(sc.road.lane_width));
+  w.f32_of(d(sc.road.target_lane_offset));
+  w.f32_of(d(sc.road.speed_limit));
   put_boundary(w, sc.road.left);
   put_boundary(w, sc.road.right);
   const scene::Ego& e = sc.ego;
-  w.f32(rx(e.state.x));
-  w.f32(ry(e.state.y));
+  rx(e.state.x);
+  ry(e.state.y);
   for (Scalar v : {e.state.heading, e.state.v, e.state.a, e.state.kappa, e.geometry.length, e.geometry.width,
                    e.geometry.wheelbase, e.limits.a_min, e.limits.a_max, e.limits.lat_acc_max, e.limits.kappa_max}) {
-    w.f32(f(v));
+    w.f32_of(d(v));
   }
   w.u8(static_cast<std::uint8_t>(sc.static_obstacles.size()));
   for (const scene::StaticObstacle& o : sc.static_obstacles) {  // <= kMaxStaticObstacles
     w.i32(o.id);
-    w.f32(rx(o.x));
-    w.f32(ry(o.y));
-    w.f32(f(o.heading));
-    w.f32(f(o.length));
-    w.f32(f(o.width));
+    rx(o.x);
+    ry(o.y);
+    w.f32_of(d(o.heading));
+    w.f32_of(d(o.length));
+    w.f32_of(d(o.width));
   }
   w.u8(static_cast<std::uint8_t>(sc.dynamic_obstacles.size()));
   const std::size_t step = stride < 1 ? 1u : static_cast<std::size_t>(stride);
   for (const scene::BasicDynamicObstacle<Cfg>& o :
        sc.dynamic_obstacles) {  // <= kMaxDynamicObstacles
     w.i32(o.id);
-    w.f32(f(o.length));
-    w.f32(f(o.width));
+    w.f32_of(d(o.length));
+    w.f32_of(d(o.width));
     const std::size_t n = o.trajectory.size();
     const std::size_t sent = n == 0 ? 0 : (n - 1) / step + 1 + ((n - 1) % step != 0 ? 1 : 0);
     w.u8(static_cast<std::uint8_t>(sent));
@@ -94,11 +98,11 @@ std::size_t encode_scene(const SceneHeader& h, const scene::BasicScene<Cfg>& sc,
         continue;  // thinned; the last sample always goes
       }
       const scene::TimedPose& p = o.trajectory[i];
-      w.f32(static_cast<float>(static_cast<double>(p.t) - h.now));
-      w.f32(rx(p.x));
-      w.f32(ry(p.y));
-      w.f32(f(p.heading));
-      w.f32(f(p.v));
+      w.f32_of(static_cast<double>(p.t) - h.now);
+      rx(p.x);
+      ry(p.y);
+      w.f32_of(d(p.heading));
+      w.f32_of(d(p.v));
     }
   }
   return w.ok() ? w.size() : 0;
@@ -181,10 +185,12 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
 }
 
 template <class Cfg>
-std::size_t encode_plan(std::uint32_t cycle, double ox, double oy, const planner::BasicPlan<Cfg>& p,
-                        std::span<std::uint8_t> out) {
+std::size_t encode_plan(const PlanHeader& h, const planner::BasicPlan<Cfg>& p, std::span<std::uint8_t> out) {
+  const double ox = h.origin_x;
+  const double oy = h.origin_y;
   ByteWriter w(out);
-  w.u32(cycle);
+  w.u32(h.cycle);
+  w.u32(h.scene_crc);
   w.u8(static_cast<std::uint8_t>(p.status));
   w.u8(static_cast<std::uint8_t>(p.fallback));
   w.u8(static_cast<std::uint8_t>(p.invalid));
@@ -218,11 +224,11 @@ std::size_t encode_plan(std::uint32_t cycle, double ox, double oy, const planner
 }
 
 template <class Cfg>
-bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle,
-                 planner::BasicPlan<Cfg>& p) {
+bool decode_plan(std::span<const std::uint8_t> in, PlanHeader& h, planner::BasicPlan<Cfg>& p) {
   ByteReader r(in);
   p = planner::BasicPlan<Cfg>{};
-  cycle = r.u32();
+  h.cycle = r.u32();
+  h.scene_crc = r.u32();
   p.status = static_cast<PlanStatus>(r.u8());
   p.fallback = static_cast<planner::FallbackReason>(r.u8());
   p.invalid = static_cast<scene::ValidationReason>(r.u8());
@@ -235,8 +241,10 @@ bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle,
     *t = r.u64();
   }
   p.timing.decision_runs = r.u16();
-  const double ox = r.f64();
-  const double oy = r.f64();
+  h.origin_x = r.f64();
+  h.origin_y = r.f64();
+  const double ox = h.origin_x;
+  const double oy = h.origin_y;
   const int n = r.u8();
   if (n > Cfg::kTrajectorySamples) {
     return false;
@@ -274,10 +282,9 @@ bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle,
                                        std::span<std::uint8_t>);                                   \
   template bool decode_scene<C>(std::span<const std::uint8_t>, SceneHeader&,                       \
                                 scene::BasicScene<C>&);                                            \
-  template std::size_t encode_plan<C>(std::uint32_t, double, double, const planner::BasicPlan<C>&, \
+  template std::size_t encode_plan<C>(const PlanHeader&, const planner::BasicPlan<C>&,             \
                                       std::span<std::uint8_t>);                                    \
-  template bool decode_plan<C>(std::span<const std::uint8_t>, std::uint32_t&,                      \
-                               planner::BasicPlan<C>&);
+  template bool decode_plan<C>(std::span<const std::uint8_t>, PlanHeader&, planner::BasicPlan<C>&);
 ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
 #undef ITP_INSTANTIATE
 

@@ -5,6 +5,7 @@
 #include "itp/configurations.hpp"
 #include "itp/core/scalar_math.hpp"
 #include "itp/geometry/frenet.hpp"
+#include "itp/scene/scene_digest.hpp"
 #include "itp/scene/validation.hpp"
 
 namespace itp::planner {
@@ -33,7 +34,7 @@ const char* to_string(FallbackReason reason) {
 // false: out.status says invalid input, or the ego is at the end of the map.
 template <class Cfg>
 bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
-  const scene::ValidationResult v = scene::validate(scene);
+  const scene::ValidationResult v = scene::validate(scene, now);
   if (!v.ok()) {
     out.status = PlanStatus::kInvalidInput;
     out.invalid = v.reason;
@@ -142,8 +143,17 @@ void BasicPlanner<Cfg>::stop_safely(const Scene* scene, Scalar now, FallbackReas
   safe_stop(in, reason, fallback_memory_, out);
 }
 
+// The answer to a request equal to the last one: that cycle's plan again.
+// (Planning it anew would stitch onto that plan at age 0 and hotstart from
+// its QPs: a different plan, defect 11.)
+template <class Cfg>
+void BasicPlanner<Cfg>::repeat_last(Plan& out) const {
+  out = last_status_ == PlanStatus::kOk ? previous_ : last_other_;
+}
+
 template <class Cfg>
 void BasicPlanner<Cfg>::reset() {
+  have_last_digest_ = false;
   have_previous_ = false;
   last_cycle_ok_ = false;
   fallback_memory_ = FallbackMemory{};
@@ -162,6 +172,14 @@ PlanStatus BasicPlanner<Cfg>::plan(const PlanRequest& request, Plan& out) {
     return out.status;
   }
   const Scene& scene = *request.scene;
+  const std::uint64_t digest = scene::digest(scene, request.now);
+  if (have_last_digest_ && digest == last_digest_) {
+    repeat_last(out);
+    out.timing = StageTiming{};
+    out.timing.tick_hz = ticks_.hz;
+    out.timing.total = ticks_.ticks() - t_begin;
+    return out.status;
+  }
   const bool prepared = prepare(scene, request.now, out);
   out.timing.prepare = ticks_.ticks() - t_begin;
   if (!prepared) {
@@ -199,6 +217,12 @@ PlanStatus BasicPlanner<Cfg>::plan(const PlanRequest& request, Plan& out) {
     fallback_memory_.holding_l = false;
   }
   last_cycle_ok_ = out.status == PlanStatus::kOk;
+  last_status_ = out.status;
+  if (out.status != PlanStatus::kOk) {
+    last_other_ = out;
+  }
+  last_digest_ = digest;
+  have_last_digest_ = true;
   return out.status;
 }
 

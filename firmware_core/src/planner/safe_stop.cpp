@@ -56,6 +56,65 @@ Scalar nearest_sample_s(const BasicPlan<Cfg>& path, Scalar x, Scalar y) {
   return s_begin;
 }
 
+// The previous plan's sample at time `age` after its start (linear between
+// samples; its last sample beyond its end).
+template <class Cfg>
+TrajectoryPoint sample_at_time(const BasicPlan<Cfg>& path, Scalar age) {
+  const TrajectoryPoint* a = &path.trajectory[0];
+  const TrajectoryPoint* b = &path.trajectory[0];
+  for (std::size_t i = 1; i < path.trajectory.size(); ++i) {  // kTrajectorySamples
+    b = &path.trajectory[i];
+    if (b->t >= age) {
+      break;
+    }
+    a = b;
+  }
+  const Scalar span = b->t - a->t;
+  const Scalar u = span > Scalar(1e-6) ? clamp((age - a->t) / span, Scalar(0), Scalar(1)) : Scalar(1);
+  TrajectoryPoint p = *a;
+  p.s = a->s + u * (b->s - a->s);
+  p.v = a->v + u * (b->v - a->v);
+  p.x = a->x + u * (b->x - a->x);
+  p.y = a->y + u * (b->y - a->y);
+  p.heading = a->heading + u * (b->heading - a->heading);
+  return p;
+}
+
+// The stop of an invalid scene uses nothing of that scene (issue 13, defect
+// 2: a reply never repeats unvalidated input). It starts from the last valid
+// state: the last ok plan at this time, braking along it, when that plan is
+// recent and `now` is a time; otherwise it is a standstill (v = 0, a = 0) at
+// the last valid position (where the last ok plan ends, clamped to its time;
+// the origin without one).
+template <class Cfg>
+void stop_from_last_valid_state(const BasicSafeStopInput<Cfg>& in, Scalar comfort_decel, BasicPlan<Cfg>& out) {
+  constexpr int kSamples = Cfg::kTrajectorySamples;
+  constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);
+  const bool have_previous = in.previous != nullptr && in.previous->trajectory.size() > 1;
+  const Scalar age = in.now - in.previous_time;
+  const bool recent = have_previous && age >= 0 && age < kFallbackPathAge;  // false for a NaN time
+  TrajectoryPoint start{};
+  if (have_previous) {
+    const Scalar end_t = in.previous->trajectory[in.previous->trajectory.size() - 1].t;
+    start = sample_at_time(*in.previous, recent ? age : end_t);
+  }
+  const Scalar v0 = recent ? max_of(start.v, Scalar(0)) : Scalar(0);
+  for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
+    const Scalar t = kDt * static_cast<Scalar>(k);
+    const Scalar t_stop = v0 / -comfort_decel;
+    const Scalar tt = min_of(t, t_stop);
+    const Scalar d = v0 * tt + Scalar(0.5) * comfort_decel * tt * tt;
+    TrajectoryPoint p = start;
+    p.t = t;
+    p.v = max_of(v0 + comfort_decel * t, Scalar(0));
+    p.a = t < t_stop ? comfort_decel : Scalar(0);
+    if (recent) {
+      pose_along(*in.previous, start.s + d, p);
+    }
+    static_cast<void>(out.trajectory.push_back(p));  // kSamples = capacity
+  }
+}
+
 }  // namespace
 
 template <class Cfg>
@@ -68,15 +127,18 @@ void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, Fallbac
     out.fallback = reason;
   }
   out.trajectory.clear();
-  const bool invalid = out.status == PlanStatus::kInvalidInput;
+  if (out.status == PlanStatus::kInvalidInput) {
+    stop_from_last_valid_state(in, in.comfort_decel, out);
+    return;
+  }
   const scene::BasicScene<Cfg>* scene = in.scene;
   const bool have_state = scene != nullptr && finite_state(scene->ego.state);
   const Scalar v0 = have_state ? max_of(scene->ego.state.v, Scalar(0)) : Scalar(0);
   const Scalar age = in.now - in.previous_time;
   const bool on_previous = in.previous != nullptr && in.previous->trajectory.size() > 1 && age >= 0 &&
-                           age < kFallbackPathAge && !invalid && have_state;
+                           age < kFallbackPathAge && have_state;
   const bool on_reference =
-      !on_previous && have_state && in.reference != nullptr && in.reference->valid() && !invalid;
+      !on_previous && have_state && in.reference != nullptr && in.reference->valid();
   geometry::FrenetPoint f = on_reference ? in.reference->to_frenet({scene->ego.state.x, scene->ego.state.y})
                                          : geometry::FrenetPoint{};
   // Hold the lateral offset of the first fallback cycle while fallbacks last,
@@ -130,7 +192,7 @@ void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, Fallbac
       }
       static_cast<void>(out.trajectory.push_back(p));  // kSamples = capacity
     }
-    if (!have_state || invalid || attempt == 2) {
+    if (!have_state || attempt == 2) {
       break;
     }
     const int hit = first_collision(*scene, in.motions, out, in.lane).sample;

@@ -28,7 +28,16 @@ bool coordinate_ok(Scalar x, Scalar y) {
   return std::fabs(x) <= config::kMaxCoordinate && std::fabs(y) <= config::kMaxCoordinate;
 }
 
-bool size_ok(Scalar size) { return size > Scalar(0) && size <= config::kMaxObjectSize; }
+bool size_ok(Scalar size) { return size >= config::kMinObjectSize && size <= config::kMaxObjectSize; }
+
+bool heading_ok(Scalar heading) { return std::fabs(heading) <= config::kMaxAbsoluteHeading; }
+
+// The window prediction times must fall in: around `now` when it is known,
+// else anywhere a scene clock can be.
+struct TimeWindow {
+  Scalar lo;  // [s]
+  Scalar hi;  // [s]
+};
 
 template <class Cfg>
 ValidationResult check_reference_line(const BasicScene<Cfg>& scene) {
@@ -109,7 +118,7 @@ ValidationResult check_road(const BasicRoad<Cfg>& road) {
   if (std::fabs(road.target_lane_offset) > config::kMaxBoundaryOffset) {
     return fail(R::kTargetLaneOffsetOutOfRange);
   }
-  if (!(road.speed_limit > Scalar(0) && road.speed_limit <= config::kMaxAbsoluteSpeed)) {
+  if (!(road.speed_limit >= config::kMinSpeedLimit && road.speed_limit <= config::kMaxAbsoluteSpeed)) {
     return fail(R::kSpeedLimitOutOfRange);
   }
   return {};
@@ -127,6 +136,9 @@ ValidationResult check_ego(const BasicScene<Cfg>& scene) {
   if (!coordinate_ok(s.x, s.y)) {
     return fail(R::kCoordinateOutOfRange);
   }
+  if (!heading_ok(s.heading)) {
+    return fail(R::kHeadingOutOfRange);
+  }
   if (!(s.v >= Scalar(0) && s.v <= config::kMaxAbsoluteSpeed)) {
     return fail(R::kEgoSpeedOutOfRange);
   }
@@ -136,14 +148,15 @@ ValidationResult check_ego(const BasicScene<Cfg>& scene) {
   if (std::fabs(s.kappa) > config::kMaxAbsoluteCurvature) {
     return fail(R::kEgoCurvatureOutOfRange);
   }
-  if (!size_ok(g.length) || !size_ok(g.width) || !(g.wheelbase > Scalar(0)) ||
+  if (!size_ok(g.length) || !size_ok(g.width) || !(g.wheelbase >= config::kMinObjectSize) ||
       !(g.wheelbase < g.length)) {
     return fail(R::kEgoGeometryOutOfRange);
   }
-  if (!(lim.a_min < Scalar(0) && lim.a_min >= -config::kMaxAbsoluteAcceleration &&
-        lim.a_max > Scalar(0) && lim.a_max <= config::kMaxAbsoluteAcceleration &&
-        lim.lat_acc_max > Scalar(0) && lim.lat_acc_max <= config::kMaxAbsoluteAcceleration &&
-        lim.kappa_max > Scalar(0) && lim.kappa_max <= config::kMaxAbsoluteCurvature)) {
+  const Scalar a_lo = config::kMinLimitAcceleration;
+  const Scalar a_hi = config::kMaxAbsoluteAcceleration;
+  if (!(lim.a_min <= -a_lo && lim.a_min >= -a_hi && lim.a_max >= a_lo && lim.a_max <= a_hi &&
+        lim.lat_acc_max >= a_lo && lim.lat_acc_max <= a_hi && lim.kappa_max >= config::kMinLimitCurvature &&
+        lim.kappa_max <= config::kMaxAbsoluteCurvature)) {
     return fail(R::kEgoLimitsOutOfRange);
   }
   if (geometry::distance_to_polyline<Cfg>(scene.reference_line.span(), {s.x, s.y}) >
@@ -164,6 +177,9 @@ ValidationResult check_static(const BasicScene<Cfg>& scene) {
     if (!coordinate_ok(o.x, o.y)) {
       return fail(R::kCoordinateOutOfRange, i);
     }
+    if (!heading_ok(o.heading)) {
+      return fail(R::kHeadingOutOfRange, i);
+    }
     if (!size_ok(o.length) || !size_ok(o.width)) {
       return fail(R::kObstacleSizeOutOfRange, i);
     }
@@ -172,7 +188,7 @@ ValidationResult check_static(const BasicScene<Cfg>& scene) {
 }
 
 template <class Cfg>
-ValidationResult check_dynamic(const BasicScene<Cfg>& scene) {
+ValidationResult check_dynamic(const BasicScene<Cfg>& scene, TimeWindow window) {
   const auto& obs = scene.dynamic_obstacles;
   for (int i = 0; i < Cfg::kMaxDynamicObstacles && i < static_cast<int>(obs.size()); ++i) {
     const BasicDynamicObstacle<Cfg>& o = obs[static_cast<std::size_t>(i)];
@@ -194,7 +210,10 @@ ValidationResult check_dynamic(const BasicScene<Cfg>& scene) {
       if (!coordinate_ok(p.x, p.y)) {
         return fail(R::kCoordinateOutOfRange, i, k);
       }
-      if (!(p.t >= Scalar(0) && p.t <= config::kMaxPredictionTime)) {
+      if (!heading_ok(p.heading)) {
+        return fail(R::kHeadingOutOfRange, i, k);
+      }
+      if (!(p.t >= window.lo && p.t <= window.hi)) {
         return fail(R::kPredictionTimeOutOfRange, i, k);
       }
       if (k > 0 && !(p.t > o.trajectory[static_cast<std::size_t>(k - 1)].t)) {
@@ -230,20 +249,35 @@ ValidationResult check_ids(const BasicScene<Cfg>& scene) {
   return {};
 }
 
-}  // namespace
-
 template <class Cfg>
-ValidationResult validate(const BasicScene<Cfg>& scene) {
+ValidationResult validate_in(const BasicScene<Cfg>& scene, TimeWindow window) {
   if (const ValidationResult r = check_reference_line(scene); !r.ok()) return r;
   if (const ValidationResult r = check_road(scene.road); !r.ok()) return r;
   if (const ValidationResult r = check_ego(scene); !r.ok()) return r;
   if (const ValidationResult r = check_static(scene); !r.ok()) return r;
-  if (const ValidationResult r = check_dynamic(scene); !r.ok()) return r;
+  if (const ValidationResult r = check_dynamic(scene, window); !r.ok()) return r;
   return check_ids(scene);
 }
 
+}  // namespace
+
+template <class Cfg>
+ValidationResult validate(const BasicScene<Cfg>& scene, Scalar now) {
+  if (!std::isfinite(now) || !(now >= Scalar(0) && now <= config::kMaxSceneTime)) {
+    return fail(R::kSceneTimeOutOfRange);
+  }
+  return validate_in(scene, TimeWindow{now - config::kMaxPredictionTime, now + config::kMaxPredictionTime});
+}
+
+template <class Cfg>
+ValidationResult validate(const BasicScene<Cfg>& scene) {
+  return validate_in(scene, TimeWindow{-config::kMaxPredictionTime, config::kMaxSceneTime + config::kMaxPredictionTime});
+}
+
 // Explicit instantiations for every configuration (itp/configurations.hpp).
-#define ITP_INSTANTIATE(C) template ValidationResult validate<C>(const BasicScene<C>&);
+#define ITP_INSTANTIATE(C)                                              \
+  template ValidationResult validate<C>(const BasicScene<C>&, Scalar); \
+  template ValidationResult validate<C>(const BasicScene<C>&);
 ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
 #undef ITP_INSTANTIATE
 

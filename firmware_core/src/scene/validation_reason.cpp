@@ -34,6 +34,8 @@ const char* to_string(ValidationReason reason) {
     case ValidationReason::kPredictionTimesNotIncreasing: return "prediction_times_not_increasing";
     case ValidationReason::kPredictionTimeOutOfRange: return "prediction_time_out_of_range";
     case ValidationReason::kObstacleSpeedOutOfRange: return "obstacle_speed_out_of_range";
+    case ValidationReason::kSceneTimeOutOfRange: return "scene_time_out_of_range";
+    case ValidationReason::kHeadingOutOfRange: return "heading_out_of_range";
   }
   return "unknown";
 }

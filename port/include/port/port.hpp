@@ -22,7 +22,9 @@ std::size_t serial_write(std::span<const std::uint8_t> bytes);
 // One line of diagnostics on a channel separate from the data link.
 void log_line(const char* text);
 
-// Called when there is nothing to do; may wait briefly for input.
+// Called when there is nothing to do (no input), and while serial_write()
+// accepts nothing: may wait briefly for input or for transmit space, and
+// must return when either arrives.
 void idle();
 
 // The stack: its size and the deepest use since reset, in bytes. A target
@@ -33,5 +35,13 @@ std::uint32_t stack_peak_bytes();
 
 // False once the link is gone for good (host: the peer closed the pipe).
 bool keep_running();
+
+// The link's long-term key from the platform's key slot (on a product an
+// HSM or secure storage; docs/port.md, "Key provisioning"). False when none
+// is provisioned: the firmware then refuses every secured request.
+bool link_key(std::span<std::uint8_t, 32> key);
+// 32 bytes that differ on every boot (a TRNG, or an HSM's random source).
+// False when there are none: the firmware then refuses every handshake.
+bool boot_entropy(std::span<std::uint8_t, 32> entropy);
 
 }  // namespace port

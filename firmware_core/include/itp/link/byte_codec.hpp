@@ -3,7 +3,9 @@
 // the end sets a sticky error flag instead of writing or reading out of range,
 // so a message codec checks once at the end.
 #include <bit>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <cstdint>
 #include <span>
 
@@ -26,6 +28,16 @@ class ByteWriter {
   void i32(std::int32_t v) { u32(static_cast<std::uint32_t>(v)); }
   void f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
   void f32(float v) { u32(std::bit_cast<std::uint32_t>(v)); }
+  // A double as float32. A finite value beyond float's range fails the write
+  // (sticky, like running out of room) instead of silently becoming
+  // infinity; NaN and infinities pass as they are (the receiver rejects them).
+  void f32_of(double v) {
+    if (std::isfinite(v) && std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max())) {
+      ok_ = false;
+      return;
+    }
+    f32(static_cast<float>(v));
+  }
   void bytes(std::span<const std::uint8_t> b) {
     for (std::uint8_t x : b) {  // bounded by the span length
       u8(x);

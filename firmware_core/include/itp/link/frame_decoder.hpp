@@ -1,8 +1,9 @@
 #pragma once
 // Streaming frame decoder: feed it received bytes one at a time. It collects
-// bytes up to each 0x00 delimiter, then checks COBS, length, CRC and version.
-// A bad frame is counted and dropped; after garbage or an overlong run the
-// decoder resynchronises at the next delimiter. Fixed-size buffer, no heap.
+// bytes up to each 0x00 delimiter, then checks COBS, length and segment
+// layout, CRC and version. A bad frame is counted and dropped; after garbage
+// or an overlong run the decoder resynchronises at the next delimiter. Its
+// buffer holds one segment (kMaxWireFrameBytes), not a whole message.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -18,7 +19,7 @@ enum class DecodeResult : std::uint8_t {
   kFrame,          // a valid frame is available through frame()
   kEmpty,          // a lone delimiter (used to flush the line); ignored
   kCobsError,      // bytes between delimiters were not valid COBS
-  kLengthError,    // shorter than a header + CRC, or length field disagrees
+  kLengthError,    // shorter than a header + CRC, or the segment layout is impossible
   kCrcError,       // checksum mismatch
   kVersionError,   // valid frame of another protocol version
   kOverflow,       // more than kMaxWireFrameBytes without a delimiter
@@ -42,7 +43,7 @@ struct LinkCounters {
 
 struct FrameView {
   FrameHeader header;
-  std::span<const std::uint8_t> payload;  // valid until the next push()
+  std::span<const std::uint8_t> chunk;  // this segment's bytes; valid until the next push()
 };
 
 class FrameDecoder {

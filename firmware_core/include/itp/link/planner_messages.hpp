@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 
+#include "itp/link/secure_channel.hpp"
 #include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
 
@@ -17,6 +18,14 @@ struct SceneHeader {
   std::uint32_t cycle = 0;  // counter of the sender, echoed in the Plan
   double now = 0;           // [s] scene time of this cycle
   bool reset = false;       // first cycle of a new scene: forget the previous plan
+};
+
+// What a Plan reply says about itself besides the plan.
+struct PlanHeader {
+  std::uint32_t cycle = 0;      // the Scene's cycle
+  std::uint32_t scene_crc = 0;  // CRC-32 of the Scene body the firmware planned (an end-to-end echo)
+  double origin_x = 0;          // [m] positions are float offsets from here
+  double origin_y = 0;          // [m]
 };
 
 // Largest Scene and Plan bodies of configuration Cfg [bytes] (docs/protocol.md
@@ -29,18 +38,22 @@ inline constexpr std::size_t kMaxSceneBytes =
     (1 + Cfg::kMaxDynamicObstacles * (13 + 20 * Cfg::kMaxPredictionSamples));
 template <class Cfg>
 inline constexpr std::size_t kMaxPlanBytes =
-    89 + 36 * Cfg::kTrajectorySamples + 1 + 7 * Cfg::kMaxObstacles;
+    93 + 36 * Cfg::kTrajectorySamples + 1 + 7 * Cfg::kMaxObstacles;
 
+// Both travel secured (freshness and tag around the body) in at most
+// kMaxSegments segments.
 template <class Cfg>
 constexpr bool fits_link() {
-  return kMaxSceneBytes<Cfg> <= config::kMaxPayloadBytes &&
-         kMaxPlanBytes<Cfg> <= config::kMaxPayloadBytes && Cfg::kMaxReferencePoints <= 255 &&
+  return kMaxSceneBytes<Cfg> + kSecuredOverhead <= kMaxMessageBytes &&
+         kMaxPlanBytes<Cfg> + kSecuredOverhead <= kMaxMessageBytes && Cfg::kMaxReferencePoints <= 255 &&
          Cfg::kMaxBoundaryPoints <= 255 && Cfg::kMaxStaticObstacles <= 255 &&
          Cfg::kMaxDynamicObstacles <= 255 && Cfg::kMaxPredictionSamples <= 255 &&
          Cfg::kTrajectorySamples <= 255 && Cfg::kMaxObstacles <= 255;
 }
 
-// Returns the payload size, 0 if it does not fit `out`.
+// Returns the body size; 0 if it does not fit `out`, or when a finite value
+// (or a position's offset from the origin) lies beyond float32's range: such
+// a value is refused, never sent as infinity.
 template <class Cfg>
 std::size_t encode_scene(const SceneHeader& header, const scene::BasicScene<Cfg>& scene,
                          int prediction_stride, std::span<std::uint8_t> out);
@@ -50,10 +63,9 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& header,
                   scene::BasicScene<Cfg>& scene);
 
 template <class Cfg>
-std::size_t encode_plan(std::uint32_t cycle, double origin_x, double origin_y,
-                        const planner::BasicPlan<Cfg>& plan, std::span<std::uint8_t> out);
+std::size_t encode_plan(const PlanHeader& header, const planner::BasicPlan<Cfg>& plan,
+                        std::span<std::uint8_t> out);
 template <class Cfg>
-bool decode_plan(std::span<const std::uint8_t> in, std::uint32_t& cycle,
-                 planner::BasicPlan<Cfg>& plan);
+bool decode_plan(std::span<const std::uint8_t> in, PlanHeader& header, planner::BasicPlan<Cfg>& plan);
 
 }  // namespace itp::link

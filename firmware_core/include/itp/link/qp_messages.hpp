@@ -13,14 +13,24 @@
 
 namespace itp::link {
 
+// The reply for QPs of shape D (at most D::kMaxVariables values of x).
+template <class D>
 struct QpSolveReply {
   qp::QpStatus status = qp::QpStatus::kInvalidInput;
   std::uint16_t iterations = 0;
   std::uint16_t n = 0;
   double objective = 0;
   std::uint64_t ticks = 0;  // solve time on the target's counter
-  double x[DefaultConfig::kPathVariables] = {};
+  double x[D::kMaxVariables] = {};
 };
+
+// Largest request and reply bodies for QPs of shape D [bytes] (layouts above).
+template <class D>
+inline constexpr std::size_t kMaxQpRequestBytes =
+    5 + 8 * static_cast<std::size_t>(D::kMaxVariables) * (D::kBandwidth + 1) + 24 * D::kMaxVariables +
+    static_cast<std::size_t>(D::kMaxRows) * (1 + 10 * D::kMaxRowNonzeros + 16);
+template <class D>
+inline constexpr std::size_t kMaxQpReplyBytes = 21 + 8 * static_cast<std::size_t>(D::kMaxVariables);
 
 // Request body. Returns the size written, 0 if `out` is too small.
 template <class D>
@@ -94,7 +104,35 @@ bool decode_qp_request(std::span<const std::uint8_t> in, qp::QpProblem<D>& p) {
   return r.done();
 }
 
-std::size_t encode(const QpSolveReply& msg, std::span<std::uint8_t> out);
-bool decode(std::span<const std::uint8_t> in, QpSolveReply& msg);
+template <class D>
+std::size_t encode(const QpSolveReply<D>& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u8(static_cast<std::uint8_t>(msg.status));
+  w.u16(msg.iterations);
+  w.u16(msg.n);
+  w.f64(msg.objective);
+  w.u64(msg.ticks);
+  for (int i = 0; i < msg.n && i < D::kMaxVariables; ++i) {  // n <= kMaxVariables
+    w.f64(msg.x[i]);
+  }
+  return w.ok() && msg.n <= D::kMaxVariables ? w.size() : 0;
+}
+
+template <class D>
+bool decode(std::span<const std::uint8_t> in, QpSolveReply<D>& msg) {
+  ByteReader r(in);
+  msg.status = static_cast<qp::QpStatus>(r.u8());
+  msg.iterations = r.u16();
+  msg.n = r.u16();
+  msg.objective = r.f64();
+  msg.ticks = r.u64();
+  if (msg.n > D::kMaxVariables) {
+    return false;
+  }
+  for (int i = 0; i < msg.n; ++i) {  // n <= kMaxVariables
+    msg.x[i] = r.f64();
+  }
+  return r.done();
+}
 
 }  // namespace itp::link

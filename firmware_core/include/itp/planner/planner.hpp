@@ -84,6 +84,7 @@ class BasicPlanner {
   bool prepare(const Scene& scene, Scalar now, Plan& out);
   StartState start_state(const Scene& scene, Scalar now) const;
   void stop_safely(const Scene* scene, Scalar now, FallbackReason reason, Plan& out);
+  void repeat_last(Plan& out) const;
   Scalar stop_before_map_end() const;
 
   TickSource ticks_{};
@@ -105,6 +106,14 @@ class BasicPlanner {
   bool have_previous_ = false;  // previous_ holds the last ok plan
   bool last_cycle_ok_ = false;  // the iteration's path and speed are that plan's (stitching needs them)
   FallbackMemory fallback_memory_{};
+
+  // The last request (scene and time, scene/scene_digest.hpp) and its
+  // outcome: the same request again gets the same plan (issue 13, defect 11)
+  // instead of a plan stitched onto itself.
+  std::uint64_t last_digest_ = 0;
+  bool have_last_digest_ = false;
+  PlanStatus last_status_ = PlanStatus::kInvalidInput;
+  Plan last_other_{};  // the last output when it was not ok (an ok one is previous_)
 };
 
 using PlanRequest = BasicPlanRequest<DefaultConfig>;

@@ -36,9 +36,10 @@ struct BasicSafeStopInput {
   Scalar comfort_decel = Scalar(-3);              // [m/s^2] < 0
 };
 
-// Writes the stop into `out`: status fallback with `reason` (an invalid_input
-// status already in `out` stays, and then neither the previous plan nor the
-// reference line is used).
+// Writes the stop into `out`: status fallback with `reason`. An invalid_input
+// status already in `out` stays, and then nothing of the scene is used: the
+// stop starts from the last valid state (the recent last ok plan at `now`),
+// else it is a standstill at the last valid position.
 template <class Cfg>
 void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, FallbackMemory& memory,
                BasicPlan<Cfg>& out);

@@ -41,8 +41,11 @@ enum class ValidationReason : std::uint8_t {
   kEmptyTrajectory,               // dynamic obstacle without samples
   kTooManyPredictionSamples,      // above kMaxPredictionSamples (reader overflow)
   kPredictionTimesNotIncreasing,  // t not strictly ascending
-  kPredictionTimeOutOfRange,      // t < 0 or above kMaxPredictionTime
+  kPredictionTimeOutOfRange,      // |t - now| above kMaxPredictionTime
   kObstacleSpeedOutOfRange,       // |v| above kMaxAbsoluteSpeed
+  // Added with protocol version 2 (the numbers travel in Plan replies: append only)
+  kSceneTimeOutOfRange,           // now < 0, above kMaxSceneTime, or not finite
+  kHeadingOutOfRange,             // |heading| of the ego, an obstacle or a sample above kMaxAbsoluteHeading
 };
 
 // Stable snake_case name (used as plan/1 "reason").
@@ -57,10 +60,19 @@ struct ValidationResult {
   PlanStatus status() const { return ok() ? PlanStatus::kOk : PlanStatus::kInvalidInput; }
 };
 
-// Checks everything the planner relies on, first problem found wins (order:
-// reference line, road, ego, static then dynamic obstacles; within each,
-// non-finite values before ranges). Bounded by the scene's capacities; no
-// allocation, no spline fit (the reference line is checked as a polyline).
+// Checks everything the planner relies on for a scene planned at time `now`
+// [s], first problem found wins (order: scene time, reference line, road,
+// ego, static then dynamic obstacles, ids; within each, non-finite values
+// before ranges). Prediction times are judged relative to `now`, so nothing
+// expires however long the scene clock runs. Bounded by the scene's
+// capacities; no allocation, no spline fit (the reference line is checked
+// as a polyline).
+template <class Cfg>
+ValidationResult validate(const BasicScene<Cfg>& scene, Scalar now);
+
+// The checks that do not need the scene time: the same as above, except
+// that prediction times are only bounded by kMaxSceneTime + kMaxPredictionTime
+// and `now` is not looked at. Callers that know the scene time use the other.
 template <class Cfg>
 ValidationResult validate(const BasicScene<Cfg>& scene);
 
