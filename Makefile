@@ -89,6 +89,8 @@ size: cortex-m7
 stack: cortex-m7
 	@echo "== Stack analysis: $(FIRMWARE_ELF)"
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(FIRMWARE_ELF) --json build/cortex-m7/stack_analysis.json
+	@echo "== Stack analysis, the test image (its own STACK_SIZE): $(TEST_FIRMWARE_ELF)"
+	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(TEST_FIRMWARE_ELF) --quiet
 
 test: deps
 	$(MAKE) --no-print-directory host-debug
