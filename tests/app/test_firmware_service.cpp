@@ -102,7 +102,7 @@ namespace {
 std::uint32_t fake_peak() { return 1234u; }
 }  // namespace
 
-TEST_CASE("Diagnostics reports the port's stack probe; 0 / 0 without one; no key or session needed") {
+TEST_CASE("Diagnostics reports the port's stack probe, 0 / 0 without one, with no key or session") {
   auto svc = std::make_unique<app_test::Service>();  // not provisioned: Diagnostics is not authenticated
   const std::vector<std::uint8_t> empty;
   auto replies = exchange(*svc, link_test::wire_frame(MessageType::kDiagnosticsRequest, 3, empty));
