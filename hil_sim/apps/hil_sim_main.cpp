@@ -420,6 +420,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--report", run.report, "Write report/1 JSON here");
   run_cmd->add_option("--plots", run.plots, "Write one SVG per scene and index.html into this directory");
   run_cmd->add_option("--trace", run.trace, "Write one JSON object per cycle (status, reason, ego pose, speed) to this file");
+  run_cmd->add_option("--diagnostics", run.diagnostics,
+                      "host/qemu: after the run, ask the firmware for its Diagnostics (stack peak) and write them as JSON here");
   run_cmd->add_option("--duration", run.duration, "Run length per scene [s] (default: the scene's, else 12)")
       ->check(CLI::PositiveNumber);
   run_cmd->add_option("--link-faults", run.link_faults,

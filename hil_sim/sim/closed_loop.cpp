@@ -664,6 +664,26 @@ int run_command(const RunCommand& cmd) {
   const json link_stats = endpoint->link_statistics();
   if (!link_stats.is_null()) rep["link"] = link_stats;
   fmt::print("{}", summary_table(rep));
+  if (!cmd.diagnostics.empty()) {
+    // Asked after the last cycle: the peak covers the whole run (docs/memory.md).
+    const auto diag = endpoint->diagnostics();
+    if (!diag) {
+      fmt::print(stderr, "hil_sim run: target '{}' gave no Diagnostics reply\n", endpoint->name());
+      return 2;
+    }
+    const json d = {{"target", endpoint->name()},
+                    {"scenes", worlds.size()},
+                    {"stack_bytes", diag->stack_bytes},
+                    {"stack_peak_bytes", diag->stack_peak_bytes}};
+    std::ofstream out(cmd.diagnostics);
+    out << d.dump(1) << "\n";
+    if (!out) {
+      fmt::print(stderr, "hil_sim run: cannot write '{}'\n", cmd.diagnostics);
+      return 2;
+    }
+    fmt::print("firmware stack: peak {} of {} bytes (painted; 0: not measured), diagnostics: {}\n",
+               diag->stack_peak_bytes, diag->stack_bytes, cmd.diagnostics);
+  }
   if (!cmd.report.empty()) {
     const std::string err = write_report(rep, cmd.report);
     if (!err.empty()) {

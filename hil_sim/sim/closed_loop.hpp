@@ -109,6 +109,7 @@ struct RunCommand {
   std::string report;                    // report/1 path ("" = none)
   std::string plots;                     // directory for SVGs and index.html ("" = none)
   std::string trace;                     // JSON Lines file, one object per cycle ("" = none)
+  std::string diagnostics;               // host / qemu: the firmware's Diagnostics after the run, JSON ("" = none)
   double duration = -1.0;                // [s] <= 0: each world's own
   std::string link_faults;               // host/qemu: "drop=P,dup=P,flip=P,reorder=P[,seed=N]" ("" = none)
   int link_deadline_ms = 0;              // host/qemu: per cycle, retransmissions included (<= 0: the target's default)

@@ -69,6 +69,9 @@ void idle() {
   poll(&pfd, 1, 1);  // wait at most 1 ms for input
 }
 
+std::uint32_t stack_size_bytes() { return 0u; }  // the host's stack is the OS's business
+std::uint32_t stack_peak_bytes() { return 0u; }
+
 bool keep_running() { return g_open; }
 
 bool link_key(std::span<std::uint8_t, 32> key) {

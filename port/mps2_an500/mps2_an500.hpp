@@ -58,6 +58,10 @@ struct KeySlot {
 };
 inline constexpr std::uint8_t kKeySlotMagic[4] = {'I', 'T', 'P', 'K'};
 
+// Start-up paints every free stack word with this pattern; the first word
+// from the bottom that differs marks the deepest use (docs/memory.md).
+inline constexpr std::uint32_t kStackPaint = 0x5AC4C0DEu;
+
 inline CmsdkUart& uart0() { return *reinterpret_cast<CmsdkUart*>(kUart0Base); }
 inline CmsdkUart& uart1() { return *reinterpret_cast<CmsdkUart*>(kUart1Base); }
 inline volatile KeySlot& key_slot() { return *reinterpret_cast<volatile KeySlot*>(kKeySlotAddress); }

@@ -5,6 +5,11 @@
 #include "mps2_an500.hpp"
 #include "port/port.hpp"
 
+extern "C" {
+// Provided by mps2_an500.ld: the stack region [_sstack, _estack).
+extern std::uint32_t _sstack[], _estack[];
+}
+
 namespace port {
 namespace {
 
@@ -94,6 +99,21 @@ void idle() {
   if ((state & mps2::kUartTxFull) != 0u || (state & mps2::kUartRxFull) == 0u) {
     __asm volatile("dsb\n\twfi" ::: "memory");
   }
+}
+
+std::uint32_t stack_size_bytes() {
+  return static_cast<std::uint32_t>(_estack - _sstack) * sizeof(std::uint32_t);
+}
+
+// Scans up from the bottom for the first word the code has written over the
+// start-up paint (startup.cpp). A word that happens to hold the pattern looks
+// unused: the peak can read at most a few words low, never high.
+std::uint32_t stack_peak_bytes() {
+  const volatile std::uint32_t* word = _sstack;
+  while (word < _estack && *word == mps2::kStackPaint) {  // bounded by the stack size
+    ++word;
+  }
+  return static_cast<std::uint32_t>(_estack - word) * sizeof(std::uint32_t);
 }
 
 bool keep_running() { return true; }

@@ -72,6 +72,13 @@ std::size_t encode(const SegmentReport& msg, std::span<std::uint8_t> out) {
   return finish(w);
 }
 
+std::size_t encode(const Diagnostics& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u32(msg.stack_bytes);
+  w.u32(msg.stack_peak_bytes);
+  return finish(w);
+}
+
 bool decode(std::span<const std::uint8_t> in, Ping& msg) {
   ByteReader r(in);
   msg.nonce = r.u32();
@@ -113,6 +120,13 @@ bool decode(std::span<const std::uint8_t> in, SegmentReport& msg) {
   for (std::uint8_t& b : msg.segments.bytes()) {  // SegmentSet::kBytes
     b = r.u8();
   }
+  return r.done();
+}
+
+bool decode(std::span<const std::uint8_t> in, Diagnostics& msg) {
+  ByteReader r(in);
+  msg.stack_bytes = r.u32();
+  msg.stack_peak_bytes = r.u32();
   return r.done();
 }
 

@@ -111,7 +111,7 @@ std::size_t encode_scene(const SceneHeader& h, const scene::BasicScene<Cfg>& sc,
 template <class Cfg>
 bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::BasicScene<Cfg>& sc) {
   ByteReader r(in);
-  sc = scene::BasicScene<Cfg>{};
+  sc.reset();  // in place: a temporary scene would put ~20 KB on the stack
   h.cycle = r.u32();
   h.now = r.f64();
   h.reset = (r.u8() & kResetFlag) != 0u;
@@ -162,14 +162,21 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
     return false;
   }
   for (int i = 0; i < n_dyn; ++i) {  // <= kMaxDynamicObstacles
-    scene::BasicDynamicObstacle<Cfg> o;
-    o.id = r.i32();
-    o.length = s(r.f32());
-    o.width = s(r.f32());
+    const std::int32_t id = r.i32();
+    const Scalar length = s(r.f32());
+    const Scalar width = s(r.f32());
     const int n = r.u8();
     if (n > Cfg::kMaxPredictionSamples) {
       return false;
     }
+    // Filled in place: a local obstacle (3.2 KB of predictions) copied in
+    // would sit on the stack. n_dyn <= capacity, so the slot exists.
+    static_cast<void>(sc.dynamic_obstacles.resize(sc.dynamic_obstacles.size() + 1));
+    scene::BasicDynamicObstacle<Cfg>& o = sc.dynamic_obstacles.back();
+    o.id = id;
+    o.length = length;
+    o.width = width;
+    o.trajectory.clear();
     for (int k = 0; k < n; ++k) {  // <= kMaxPredictionSamples
       scene::TimedPose p;
       p.t = static_cast<Scalar>(h.now + static_cast<double>(r.f32()));
@@ -179,7 +186,6 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
       p.v = s(r.f32());
       static_cast<void>(o.trajectory.push_back(p));
     }
-    static_cast<void>(sc.dynamic_obstacles.push_back(o));
   }
   return r.done();
 }

@@ -27,6 +27,12 @@ void log_line(const char* text);
 // must return when either arrives.
 void idle();
 
+// The stack: its size and the deepest use since reset, in bytes. A target
+// that paints its stack at start-up measures the peak from the paint; one
+// that cannot (the host) returns 0 for both ("not measured").
+std::uint32_t stack_size_bytes();
+std::uint32_t stack_peak_bytes();
+
 // False once the link is gone for good (host: the peer closed the pipe).
 bool keep_running();
 
