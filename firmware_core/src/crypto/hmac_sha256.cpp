@@ -50,15 +50,4 @@ Sha256Digest hmac_sha256(const HmacKey& key, std::span<const std::uint8_t> messa
   return mac.finish();
 }
 
-bool equal_constant_time(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b) {
-  if (a.size() != b.size()) {
-    return false;
-  }
-  std::uint8_t diff = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {  // bounded by the length, no early exit
-    diff = static_cast<std::uint8_t>(diff | (a[i] ^ b[i]));
-  }
-  return diff == 0u;
-}
-
 }  // namespace itp::crypto

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <span>
 
+#include "itp/crypto/constant_time.hpp"
 #include "itp/crypto/sha256.hpp"
 
 namespace itp::crypto {
@@ -44,9 +45,5 @@ class Hmac {
 };
 
 Sha256Digest hmac_sha256(const HmacKey& key, std::span<const std::uint8_t> message);
-
-// True when a and b have the same length and bytes; the time taken depends
-// on the length only, not on where they differ.
-bool equal_constant_time(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b);
 
 }  // namespace itp::crypto
