@@ -14,7 +14,8 @@ AesBlock times_x(const AesBlock& b) {
   for (std::size_t i = 0; i + 1 < kAesBlockBytes; ++i) {  // 15 bytes
     out[i] = static_cast<std::uint8_t>((b[i] << 1) | (b[i + 1] >> 7));
   }
-  out[kAesBlockBytes - 1] = static_cast<std::uint8_t>((b[kAesBlockBytes - 1] << 1) ^ (carry_mask & 0x87u));
+  out[kAesBlockBytes - 1] =
+      static_cast<std::uint8_t>((static_cast<unsigned>(b[kAesBlockBytes - 1]) << 1u) ^ (carry_mask & 0x87u));
   return out;
 }
 
