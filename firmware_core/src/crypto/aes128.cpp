@@ -68,7 +68,10 @@ void add_round_key(std::array<std::uint32_t, 8>& q, const std::array<std::uint16
 // inversion in a tower field, 32 AND, 30 XOR) and a linear bottom layer with
 // the affine map (30 XOR, 4 XNOR). In the paper's notation U0 is the most
 // significant input bit and S0 the most significant output bit.
-void aes_sub_bytes_planes(std::array<std::uint32_t, 8>& planes) {
+namespace {
+
+// Inlined into the rounds (the planes stay in registers as far as they fit).
+[[gnu::always_inline]] inline void sub_bytes(std::array<std::uint32_t, 8>& planes) {
   const std::uint32_t u0 = planes[7], u1 = planes[6], u2 = planes[5], u3 = planes[4];
   const std::uint32_t u4 = planes[3], u5 = planes[2], u6 = planes[1], u7 = planes[0];
 
@@ -208,6 +211,10 @@ void aes_sub_bytes_planes(std::array<std::uint32_t, 8>& planes) {
   planes[0] = ~(l6 ^ l23);   // S7
 }
 
+}  // namespace
+
+void aes_sub_bytes_planes(std::array<std::uint32_t, 8>& planes) { sub_bytes(planes); }
+
 AesPlanes AesPlanes::load(std::span<const std::uint8_t, kAesBlockBytes> bytes) {
   // Column c is input bytes 4c..4c+3 (rows 0..3), read as one little-endian
   // word: bit b of row r at bit 8r + b. Plane b takes those four bits as the
@@ -300,7 +307,7 @@ void Aes128::encrypt(AesPlanes& state) const {
   std::array<std::uint32_t, 8>& q = state.plane;
   add_round_key(q, round_keys_[0]);
   for (std::size_t round = 1; round <= kAes128Rounds; ++round) {  // 10 rounds
-    aes_sub_bytes_planes(q);
+    sub_bytes(q);
     for (std::size_t b = 0; b < 8; ++b) {  // 8 planes
       q[b] = shift_rows(q[b]);
     }
