@@ -5,7 +5,7 @@ SHELL := /bin/bash
 
 # libstdc++-arm-none-eabi-newlib: the Cortex-M7 build's C++ headers (<array>, ...);
 # gcc-arm-none-eabi alone is C only.
-# libssl-dev: OpenSSL's HMAC, the tests' independent check of the link's MAC.
+# libssl-dev: OpenSSL's CMAC (EVP_MAC), the tests' independent check of the link's MAC.
 # clang + libclang-rt-14-dev: libFuzzer and the sanitizers for tests/fuzz
 # (libclang-rt is only recommended by clang, and deps installs no recommends).
 DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-none-eabi \

@@ -365,7 +365,7 @@ int main(int argc, char** argv) {
                        "Firmware executable (host) or ELF (qemu); defaults to this build's");
   ping_cmd->add_option("--log", ping.log, "File for the firmware's log lines");
   ping_cmd->add_option("--key", ping.key_file,
-                       "Link key file (32 bytes or 64 hex digits; default: a fresh random key for this run)");
+                       "Link key file (AES-128: 16 bytes or 32 hex digits; default: a fresh random key for this run)");
   ping_cmd->add_option("--count", ping.count, "Number of round trips")->check(CLI::PositiveNumber)->capture_default_str();
   ping_cmd->add_option("--timeout-ms", ping.timeout_ms, "Reply timeout per request")->capture_default_str();
   ping_cmd->add_flag("--garbage", ping.garbage, "Inject garbage, bit flips and truncated frames between pings");
@@ -431,7 +431,7 @@ int main(int argc, char** argv) {
                       "host/qemu: time a cycle's reply may take, retransmissions included (default 1000 host, 20000 qemu)")
       ->check(CLI::PositiveNumber);
   run_cmd->add_option("--key", run.key_file,
-                      "host/qemu: link key file (32 bytes or 64 hex digits; default: a fresh random key for the run)");
+                      "host/qemu: link key file (AES-128: 16 bytes or 32 hex digits; default: a fresh random key for the run)");
   add_commonroad_options(run_cmd, run.commonroad, false);
 
   std::string compare_a, compare_b, compare_json;

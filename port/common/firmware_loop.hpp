@@ -37,8 +37,8 @@ void run(std::byte* storage, const char* build_id) {
   service->set_build_id(build_id);
   service->set_tick_source(itp::TickSource{&port::counter_ticks, port::counter_hz()});
   service->set_stack_probe(itp::StackProbe{&port::stack_peak_bytes, port::stack_size_bytes()});
-  std::array<std::uint8_t, 32> key{};
-  std::array<std::uint8_t, 32> entropy{};
+  std::array<std::uint8_t, port::kLinkKeyBytes> key{};
+  std::array<std::uint8_t, port::kBootEntropyBytes> entropy{};
   const bool have_key = port::link_key(key);
   const bool have_entropy = port::boot_entropy(entropy);
   service->provision(have_key ? std::span<const std::uint8_t>(key) : std::span<const std::uint8_t>(),

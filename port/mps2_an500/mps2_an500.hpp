@@ -53,7 +53,7 @@ inline constexpr std::uint32_t kUart0TxIrqBit = 1u << 1;
 inline constexpr std::uintptr_t kKeySlotAddress = 0x203FFF00u;
 struct KeySlot {
   std::uint8_t magic[4];     // "ITPK" when provisioned
-  std::uint8_t key[32];      // the link's long-term key
+  std::uint8_t key[16];      // the link's long-term key (AES-128)
   std::uint8_t entropy[32];  // differs on every boot
 };
 inline constexpr std::uint8_t kKeySlotMagic[4] = {'I', 'T', 'P', 'K'};

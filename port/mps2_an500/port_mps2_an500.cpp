@@ -118,20 +118,20 @@ std::uint32_t stack_peak_bytes() {
 
 bool keep_running() { return true; }
 
-bool link_key(std::span<std::uint8_t, 32> key) {
+bool link_key(std::span<std::uint8_t, kLinkKeyBytes> key) {
   volatile mps2::KeySlot& slot = mps2::key_slot();
   for (std::size_t i = 0; i < 4; ++i) {  // magic
     if (slot.magic[i] != mps2::kKeySlotMagic[i]) {
       return false;
     }
   }
-  for (std::size_t i = 0; i < key.size(); ++i) {  // 32 bytes
+  for (std::size_t i = 0; i < key.size(); ++i) {  // 16 bytes
     key[i] = slot.key[i];
   }
   return true;
 }
 
-bool boot_entropy(std::span<std::uint8_t, 32> entropy) {
+bool boot_entropy(std::span<std::uint8_t, kBootEntropyBytes> entropy) {
   volatile mps2::KeySlot& slot = mps2::key_slot();
   std::uint8_t any = 0;
   for (std::size_t i = 0; i < entropy.size(); ++i) {  // 32 bytes, used once
