@@ -37,6 +37,7 @@ bool get_boundary(ByteReader& r, scene::BasicBoundary<Cfg>& b) {
     scene::BoundaryPoint p;
     p.s = s(r.f32());
     p.l = s(r.f32());
+    // Cleared above; n <= kMaxBoundaryPoints = capacity (checked).
     static_cast<void>(b.table.push_back(p));
   }
   return r.ok();
@@ -126,6 +127,7 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
   for (int i = 0; i < n_ref; ++i) {  // <= kMaxReferencePoints
     const float x = r.f32();
     const float y = r.f32();
+    // Scene reset above; n_ref <= kMaxReferencePoints = capacity (checked).
     static_cast<void>(sc.reference_line.push_back(geometry::Point2{ax(x), ay(y)}));
   }
   sc.road.lane_width = s(r.f32());
@@ -155,6 +157,7 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
     o.heading = s(r.f32());
     o.length = s(r.f32());
     o.width = s(r.f32());
+    // Scene reset above; n_static <= kMaxStaticObstacles = capacity (checked).
     static_cast<void>(sc.static_obstacles.push_back(o));
   }
   const int n_dyn = r.u8();
@@ -184,6 +187,7 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
       p.y = ay(r.f32());
       p.heading = s(r.f32());
       p.v = s(r.f32());
+      // Cleared above; n <= kMaxPredictionSamples = capacity (checked).
       static_cast<void>(o.trajectory.push_back(p));
     }
   }
@@ -264,6 +268,7 @@ bool decode_plan(std::span<const std::uint8_t> in, PlanHeader& h, planner::Basic
     for (Scalar* v : fields) {  // 6 fields
       *v = s(r.f32());
     }
+    // Plan reset above; n <= kTrajectorySamples = capacity (checked).
     static_cast<void>(p.trajectory.push_back(q));
   }
   const int nd = r.u8();
@@ -276,6 +281,7 @@ bool decode_plan(std::span<const std::uint8_t> in, PlanHeader& h, planner::Basic
     d.lateral = static_cast<planner::LateralSide>(r.u8());
     d.longitudinal = static_cast<speed::Longitudinal>(r.u8());
     d.dynamic = r.u8() != 0u;
+    // Plan reset above; nd <= kMaxObstacles = capacity (checked).
     static_cast<void>(p.decisions.push_back(d));
   }
   return r.done();

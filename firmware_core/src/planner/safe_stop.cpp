@@ -127,7 +127,8 @@ void stop_from_last_valid_state(const BasicSafeStopInput<Cfg>& in, Scalar comfor
     if (recent) {
       pose_along(*in.previous, start.s + d, p);
     }
-    static_cast<void>(out.trajectory.push_back(p));  // kSamples = capacity
+    // The caller cleared it; kSamples = kTrajectorySamples = capacity.
+    static_cast<void>(out.trajectory.push_back(p));
   }
 }
 
@@ -214,7 +215,8 @@ void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, Fallbac
         p.heading = e.heading;
         p.s = d;
       }
-      static_cast<void>(out.trajectory.push_back(p));  // kSamples = capacity
+      // Cleared above; kSamples = kTrajectorySamples = capacity.
+      static_cast<void>(out.trajectory.push_back(p));
     }
   };
   constexpr int kGentleSteps = 4;
