@@ -54,6 +54,19 @@ void copy_to(std::array<std::uint8_t, N>& dst, std::span<const std::uint8_t> src
   }
 }
 
+// A handshake body (Challenge and Confirm alike): Nh ‖ Nf ‖ tag.
+template <std::size_t N, std::size_t T>
+void write_handshake(std::span<std::uint8_t> out, const std::array<std::uint8_t, N>& nh,
+                     const std::array<std::uint8_t, N>& nf, const std::array<std::uint8_t, T>& tag) {
+  for (std::size_t i = 0; i < N; ++i) {  // N bytes each
+    out[i] = nh[i];
+    out[N + i] = nf[i];
+  }
+  for (std::size_t i = 0; i < T; ++i) {  // T bytes
+    out[2 * N + i] = tag[i];
+  }
+}
+
 }  // namespace
 
 const char* to_string(AuthStatus status) {
@@ -230,14 +243,7 @@ AuthStatus SecureChannel::answer_challenge(std::uint16_t challenge_seq, std::spa
   fw_nonce_ = nf;
   derive(nh, nf, pending_tx_, pending_rx_);
   pending_keys_ = true;
-  const Tag tag = handshake_tag(MessageType::kSessionConfirm, confirm_seq, nh, nf);
-  for (std::size_t i = 0; i < kNonceBytes; ++i) {  // 16 bytes each
-    out[i] = nh[i];
-    out[kNonceBytes + i] = nf[i];
-  }
-  for (std::size_t i = 0; i < kTagBytes; ++i) {  // 8 bytes
-    out[2 * kNonceBytes + i] = tag[i];
-  }
+  write_handshake(out, nh, nf, handshake_tag(MessageType::kSessionConfirm, confirm_seq, nh, nf));
   return AuthStatus::kOk;
 }
 
@@ -260,14 +266,8 @@ AuthStatus SecureChannel::challenge(std::uint16_t seq, std::span<const std::uint
   static_assert(crypto::kCmacTagBytes == kNonceBytes, "one PRF block is one nonce");
   fw_nonce_ = prf(long_term_, kLabelNonce, entropy_, counter);
   handshake_ = true;
-  const Tag tag = handshake_tag(MessageType::kSessionChallenge, seq, host_nonce_, fw_nonce_);
-  for (std::size_t i = 0; i < kNonceBytes; ++i) {  // 16 bytes each
-    out[i] = host_nonce_[i];
-    out[kNonceBytes + i] = fw_nonce_[i];
-  }
-  for (std::size_t i = 0; i < kTagBytes; ++i) {  // 8 bytes
-    out[2 * kNonceBytes + i] = tag[i];
-  }
+  write_handshake(out, host_nonce_, fw_nonce_,
+                  handshake_tag(MessageType::kSessionChallenge, seq, host_nonce_, fw_nonce_));
   return AuthStatus::kOk;
 }
 
