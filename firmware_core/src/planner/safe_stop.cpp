@@ -20,19 +20,31 @@ bool finite_state(const scene::EgoState& e) {
   return std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.heading) && std::isfinite(e.v);
 }
 
+// The samples a, b of a trajectory that bracket `target` in the sample field
+// `key` (s or t, both ascending): the first b with b.key >= target and its
+// predecessor a; a = b = the last sample beyond the end.
+struct Bracket {
+  const TrajectoryPoint* a;
+  const TrajectoryPoint* b;
+};
+template <class Cfg>
+Bracket bracket(const BasicPlan<Cfg>& path, Scalar TrajectoryPoint::*key, Scalar target) {
+  Bracket r{&path.trajectory[0], &path.trajectory[0]};
+  for (std::size_t i = 1; i < path.trajectory.size(); ++i) {  // kTrajectorySamples
+    r.b = &path.trajectory[i];
+    if (r.b->*key >= target) {
+      break;
+    }
+    r.a = r.b;
+  }
+  return r;
+}
+
 // The pose at arc length `target` along a trajectory (its samples' s),
 // linear between samples, straight on along the last heading beyond its end.
 template <class Cfg>
 void pose_along(const BasicPlan<Cfg>& path, Scalar target, TrajectoryPoint& p) {
-  const TrajectoryPoint* a = &path.trajectory[0];
-  const TrajectoryPoint* b = &path.trajectory[0];
-  for (std::size_t i = 1; i < path.trajectory.size(); ++i) {  // kTrajectorySamples
-    b = &path.trajectory[i];
-    if (b->s >= target) {
-      break;
-    }
-    a = b;
-  }
+  const auto [a, b] = bracket(path, &TrajectoryPoint::s, target);
   const Scalar span = b->s - a->s;
   const Scalar u = span > Scalar(1e-6) ? clamp((target - a->s) / span, Scalar(0), Scalar(1)) : Scalar(0);
   const Scalar extra = target > b->s ? target - b->s : Scalar(0);
@@ -76,15 +88,7 @@ Scalar max_lateral_acceleration(const BasicPlan<Cfg>& plan) {
 // samples; its last sample beyond its end).
 template <class Cfg>
 TrajectoryPoint sample_at_time(const BasicPlan<Cfg>& path, Scalar age) {
-  const TrajectoryPoint* a = &path.trajectory[0];
-  const TrajectoryPoint* b = &path.trajectory[0];
-  for (std::size_t i = 1; i < path.trajectory.size(); ++i) {  // kTrajectorySamples
-    b = &path.trajectory[i];
-    if (b->t >= age) {
-      break;
-    }
-    a = b;
-  }
+  const auto [a, b] = bracket(path, &TrajectoryPoint::t, age);
   const Scalar span = b->t - a->t;
   const Scalar u = span > Scalar(1e-6) ? clamp((age - a->t) / span, Scalar(0), Scalar(1)) : Scalar(1);
   TrajectoryPoint p = *a;
