@@ -129,6 +129,19 @@ struct DefaultSizes {
   // (kMaxDynamicObstacles + 1) = 30. A cycle that needs more falls back (WCET
   // bound); the value's cost in fallbacks: docs/performance.md, "Worst case".
   static constexpr int kMaxDecisionRunsPerCycle = 15;
+  // Run-time iteration caps of the other QPs (the compile-time kMaxIterations,
+  // 3 (n + m), is 180 for the coarse and 765 for the speed QP: far above need).
+  static constexpr int kCoarseQpMaxIterations = 60;   // coarse QP cap (a solve needs ~5-25)
+  static constexpr int kSpeedQpMaxIterations = 120;   // speed QP cap (a solve needs ~10-60)
+  // Per-cycle budgets in the units that bound each stage's cost (the worst
+  // case is their sum of budget x worst cost per unit; `make wcet`). A cycle
+  // whose stage runs out of one falls back (FallbackReason::kBudget).
+  static constexpr int kMaxTreeNodesPerCycle = 1024;       // tree nodes over all decision runs
+  static constexpr int kMaxCoarseQpsPerCycle = 48;         // coarse QPs over all decision runs
+  static constexpr int kMaxCoarseIterationsPerCycle = 400;  // their active-set iterations
+  static constexpr int kMaxPathIterationsPerCycle = 250;    // path-QP iterations over all solves
+  static constexpr int kMaxSpeedSolvesPerCycle = 8;        // speed QPs (<= 3 per ST attempt)
+  static constexpr int kMaxSpeedIterationsPerCycle = 200;  // their active-set iterations
 
   // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
   // time in planner.cpp on every target; docs/performance.md, "Memory").
@@ -196,7 +209,11 @@ struct Configuration : Sizes {
                 "bad decision sizes");
   static_assert(kPathBlocks >= 2 && kSpeedBlocks >= 2, "at least two QP blocks");
   static_assert(Sizes::kMaxPlannerIterations >= 1 && Sizes::kMaxPathSolvesPerCycle >= 1 &&
-                    Sizes::kPathQpMaxIterations >= 1 && Sizes::kMaxDecisionRunsPerCycle >= 1,
+                    Sizes::kPathQpMaxIterations >= 1 && Sizes::kMaxDecisionRunsPerCycle >= 1 &&
+                    Sizes::kCoarseQpMaxIterations >= 1 && Sizes::kSpeedQpMaxIterations >= 1 &&
+                    Sizes::kMaxTreeNodesPerCycle >= 1 && Sizes::kMaxCoarseQpsPerCycle >= 1 &&
+                    Sizes::kMaxCoarseIterationsPerCycle >= 1 && Sizes::kMaxPathIterationsPerCycle >= 1 &&
+                    Sizes::kMaxSpeedSolvesPerCycle >= 1 && Sizes::kMaxSpeedIterationsPerCycle >= 1,
                 "budgets must allow one solve");
 };
 
