@@ -404,8 +404,9 @@ int main(int argc, char** argv) {
   auto* scene_opt =
       run_cmd->add_option("--scene", run.scene_files, "scene/1 JSON or CommonRoad XML file(s) to run (instead of a suite)")
           ->check(CLI::ExistingFile);
-  run_cmd->add_option("--suite", run.suite, "Generated suite")
-      ->check(CLI::IsMember({"default"}))
+  run_cmd->add_option("--suite", run.suite,
+                      "Generated suite: default, or stress (every scene with 10 static + 5 dynamic obstacles)")
+      ->check(CLI::IsMember({"default", "stress"}))
       ->excludes(scene_opt)
       ->capture_default_str();
   run_cmd->add_option("--count", run.count, "Number of suite scenes")->check(CLI::PositiveNumber)->capture_default_str();
