@@ -44,6 +44,8 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
   const std::uint64_t t0 = ticks.ticks();
   // Lowest decision cost wins; ties keep the better geometric rank. Decisions
   // beyond the budget stay unevaluated (not usable).
+  // WCET: <= kKeptDecisions; over the cycle <= kMaxCoarseQpsPerCycle QPs with
+  // kMaxCoarseIterationsPerCycle iterations in all (the budget the caller passes).
   for (std::size_t i = 0; i < set_.kept.size(); ++i) {  // <= kKeptDecisions
     const int left = budget.coarse_iterations - work.coarse_iterations;
     if (work.coarse_qps >= budget.coarse_qps || left <= 0) {

@@ -33,6 +33,8 @@ FallbackReason BasicCorridorSearch<Cfg>::run(const StSamples& s_guess, BasicSlSc
   bool skip[Cfg::kMaxDynamicObstacles] = {};
   chosen_ = -1;
   evasive_ = false;
+  // WCET: <= kMaxDynamicObstacles + 1 rounds per call, and over the cycle
+  // <= kMaxDecisionRunsPerCycle runs (decision_runs_, checked first).
   for (int round = 0; round <= Cfg::kMaxDynamicObstacles; ++round) {  // one more left-out obstacle per round
     if (decision_budget_spent()) {
       return FallbackReason::kBudget;  // the worst case stays bounded (WCET): the caller falls back
@@ -117,6 +119,8 @@ bool BasicCorridorSearch<Cfg>::try_paths(BasicSlScene<Cfg>& sl, const Context& c
     // (evasive), the safest way out, not a stop where the ego stands (in an
     // oncoming lane, say). Within the cycle's budget.
     const int levels = attempt < kEvasiveAttempts ? 3 : 2;
+    // WCET: <= 3 per attempt; over the cycle <= kMaxPathSolvesPerCycle solves
+    // and kMaxPathIterationsPerCycle iterations in all (path_budget_spent).
     for (int relax = 0; relax < levels && chosen_ < 0 && !path_budget_spent(); ++relax) {
       ++path_solves_;
       pi.kappa_bound = relax == 0 ? &ctx.bounds->expected : (relax == 1 ? &ctx.bounds->reach : &ctx.bounds->evasive);

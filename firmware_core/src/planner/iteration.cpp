@@ -209,6 +209,8 @@ void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, con
 
 template <class Cfg>
 void BasicIteration<Cfg>::solve_speed(Context& ctx, BasicPlan<Cfg>& out) {
+  // WCET: <= kMaxSpeedSolvesPerCycle speed QPs (each after at most one ST
+  // graph build) with kMaxSpeedIterationsPerCycle iterations in all, per cycle.
   const int left = Cfg::kMaxSpeedIterationsPerCycle - out.timing.speed_iterations;
   if (out.timing.speed_solves >= Cfg::kMaxSpeedSolvesPerCycle || left <= 0) {
     speed_ = SpeedResult{};  // kInvalidInput: not usable
