@@ -121,7 +121,7 @@ struct DefaultSizes {
   // Iteration (paper 2) and the per-cycle budgets that bound the worst case
   static constexpr int kMaxPlannerIterations = 5;
   static constexpr int kRememberedInfeasibleCorridors = 16;  // path QPs not repeated on them
-  static constexpr int kMaxPathSolvesPerCycle = 12;          // path QPs (max 16, p99.9 10)
+  static constexpr int kMaxPathSolvesPerCycle = 10;          // path QPs (max 16, p99.9 10)
   static constexpr int kPathQpMaxIterations = 60;            // path QP iteration cap
   // Decision-stage runs (convex space, tree, up to kKeptDecisions coarse QPs) per
   // cycle, over all iterations and their rounds (a round leaves one more moving
@@ -137,14 +137,14 @@ struct DefaultSizes {
   // worst case is the sum of budget x worst cost per unit (`make wcet`,
   // docs/performance.md "Worst case"). A cycle whose stage runs out of one
   // falls back (FallbackReason::kBudget). Closed-loop use, seeds 1-10 x 24 000
-  // cycles without budgets (max, p99.9) beside each; cost in fallbacks +0.3-0.96 %.
-  static constexpr int kMaxTreeNodesPerCycle = 1024;        // tree nodes in all runs (max 530, p99.9 158)
+  // cycles without budgets (max, p99.9) beside each; cost in fallbacks +0.32-1.00 %.
+  static constexpr int kMaxTreeNodesPerCycle = 512;        // tree nodes in all runs (max 530, p99.9 158)
   static constexpr int kMaxCoarseQpsPerCycle = 32;          // coarse QPs in all runs (max 80, p99.9 24)
-  static constexpr int kMaxCoarseIterationsPerCycle = 400;  // their iterations (max 1210, p99.9 292)
+  static constexpr int kMaxCoarseIterationsPerCycle = 300;  // their iterations (max 1210, p99.9 292)
   static constexpr int kMaxPathIterationsPerCycle = 250;    // path-QP iterations (max 853, p99.9 379): failed
                                                             // QPs rationed, the largest term of the bound
   static constexpr int kMaxSpeedSolvesPerCycle = 8;         // speed QPs (max 14, p99.9 8)
-  static constexpr int kMaxSpeedIterationsPerCycle = 200;   // their iterations (max 498, p99.9 184)
+  static constexpr int kMaxSpeedIterationsPerCycle = 300;   // their iterations (max 498, p99.9 184)
 
   // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
   // time in planner.cpp on every target; docs/performance.md, "Memory").
