@@ -5,15 +5,19 @@ SHELL := /bin/bash
 
 # libstdc++-arm-none-eabi-newlib: the Cortex-M7 build's C++ headers (<array>, ...);
 # gcc-arm-none-eabi alone is C only.
-# libssl-dev: OpenSSL's HMAC, the tests' independent check of the link's MAC.
+# libssl-dev: OpenSSL's CMAC (EVP_MAC), the tests' independent check of the link's MAC.
 # clang + libclang-rt-14-dev: libFuzzer and the sanitizers for tests/fuzz
 # (libclang-rt is only recommended by clang, and deps installs no recommends).
 DEBIAN_PACKAGES := cmake ninja-build g++ git gcc-arm-none-eabi libnewlib-arm-none-eabi \
-                   libstdc++-arm-none-eabi-newlib \
+                   libstdc++-arm-none-eabi-newlib python3 \
                    qemu-system-arm libeigen3-dev doctest-dev nlohmann-json3-dev \
                    libcli11-dev libfmt-dev libbenchmark-dev libpugixml-dev libssl-dev \
                    clang libclang-rt-14-dev
 FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
+# The RAM budget lives in port/mps2_an500/ram_budget.ld (linker, static_assert
+# and `make size` read the same number); `make size RAM_BUDGET=...` overrides
+# it for the report only.
+RAM_BUDGET ?=
 # The test image (QP-check service), used by the QEMU QP agreement test only.
 TEST_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_qp_check.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim
@@ -30,14 +34,16 @@ SIM_OUT ?= build/sim
 # make fuzz FUZZ_SECONDS=600: every fuzz target for that long (tests/fuzz/run_fuzzers.sh).
 FUZZ_SECONDS ?= 60
 
-.PHONY: help deps test sim host-debug host-release cortex-m7 size clean fuzz fuzz-build wcet wcet-measure
+.PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean fuzz fuzz-build wcet wcet-measure
 
 help:
 	@echo "make sim    - build everything and run the simulator against the Cortex-M7 firmware under QEMU"
-	@echo "make test   - host-debug (ASan+UBSan) tests, cortex-m7 build + size report, host-release tests incl. QEMU,"
-	@echo "              the fuzz targets on their seed corpus"
+	@echo "make test   - host-debug (ASan+UBSan) tests, cortex-m7 build + size and stack checks,"
+	@echo "              host-release tests incl. QEMU, the fuzz targets on their seed corpus"
 	@echo "make deps   - install missing Debian packages (idempotent; needs root)"
-	@echo "make size   - ARM size report (text, data, bss) of the firmware"
+	@echo "make size   - ARM RAM by module (planner stages, scene, plan, link, stack), fails over the RAM budget"
+	@echo "make stack  - worst-case stack path from the call graph (-fstack-usage), fails on recursion,"
+	@echo "              dynamic frames, unresolved indirect calls or a linker-script stack below bound + margin"
 	@echo "make wcet   - the derived worst case per cycle: budgets x measured cost per unit, measured maxima"
 	@echo "make wcet-measure - measure the costs per unit under QEMU (default + stress suite, long)"
 	@echo "make fuzz   - run every libFuzzer target for FUZZ_SECONDS seconds (default 60)"
@@ -98,11 +104,22 @@ size: cortex-m7
 	@echo "== ARM size report: $(FIRMWARE_ELF) (production image)"
 	@arm-none-eabi-size -A -d $(FIRMWARE_ELF) | grep -E "^(section|\.isr_vector|\.text|\.data|\.bss|\.stack)"
 	@arm-none-eabi-size $(FIRMWARE_ELF) $(TEST_FIRMWARE_ELF)
+	python3 tools/size_report.py --elf $(FIRMWARE_ELF) $(if $(RAM_BUDGET),--budget $(RAM_BUDGET))
+	@echo "== The test image (QP check; never flashed, no budget): $(TEST_FIRMWARE_ELF)"
+	set -o pipefail; python3 tools/size_report.py --elf $(TEST_FIRMWARE_ELF) --no-budget | grep -E "^(RAM by|  QP-check|total)"
+
+# The cortex-m7 build writes .su/.ci files next to its objects (ITP_STACK_USAGE).
+stack: cortex-m7
+	@echo "== Stack analysis: $(FIRMWARE_ELF)"
+	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(FIRMWARE_ELF) --json build/cortex-m7/stack_analysis.json
+	@echo "== Stack analysis, the test image (its own STACK_SIZE): $(TEST_FIRMWARE_ELF)"
+	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(TEST_FIRMWARE_ELF) --quiet
 
 test: deps
 	$(MAKE) --no-print-directory host-debug
 	ctest --preset host-debug
 	$(MAKE) --no-print-directory size
+	$(MAKE) --no-print-directory stack
 	$(MAKE) --no-print-directory host-release
 	ctest --preset host-release
 	$(MAKE) --no-print-directory fuzz-build

@@ -16,8 +16,9 @@
 #include <random>
 #include <thread>
 
+#include "apps/common_options.hpp"
+#include "apps/run_command.hpp"
 #include "formats/qp_text.hpp"
-#include "sim/closed_loop.hpp"
 #include "sim/report_compare.hpp"
 #include "sim/scene_files.hpp"
 #include "sim/scene_generator.hpp"
@@ -31,10 +32,8 @@
 namespace {
 
 struct PingOptions {
-  std::string target = "qemu";
-  std::string firmware;
+  hil::apps::TargetOptions target{"qemu", "", ""};
   std::string log;
-  std::string key_file;
   int count = 10;
   int timeout_ms = 5000;
   bool garbage = false;
@@ -119,12 +118,11 @@ std::vector<std::uint8_t> make_garbage(std::mt19937& rng) {
 }
 
 int run_ping(const PingOptions& opt) {
-  const std::string firmware = opt.firmware.empty()
-                                   ? (opt.target == "qemu" ? ITP_DEFAULT_QEMU_FIRMWARE : ITP_DEFAULT_HOST_FIRMWARE)
-                                   : opt.firmware;
-  fmt::print("starting {} firmware: {}\n", opt.target, firmware);
-  const hil::LinkKey key = hil::link_key_from(opt.key_file);
-  hil::FirmwareProcess fw(opt.target, firmware, key, opt.log);
+  const std::string firmware =
+      hil::apps::firmware_image(opt.target, ITP_DEFAULT_HOST_FIRMWARE, ITP_DEFAULT_QEMU_FIRMWARE);
+  fmt::print("starting {} firmware: {}\n", opt.target.name, firmware);
+  const hil::LinkKey key = hil::link_key_from(opt.target.key_file);
+  hil::FirmwareProcess fw(opt.target.name, firmware, key, opt.log);
   if (opt.fill_pipe) {
     return run_fill_pipe(fw.process(), opt.timeout_ms);
   }
@@ -195,9 +193,7 @@ int run_ping(const PingOptions& opt) {
 }
 
 struct QpCheckOptions {
-  std::string target = "qemu";
-  std::string firmware;
-  std::string key_file;
+  hil::apps::TargetOptions target{"qemu", "", ""};
   std::vector<std::string> files;
   double tolerance = 1e-9;
   int timeout_ms = 20000;
@@ -212,17 +208,16 @@ int run_qp_check(const QpCheckOptions& opt) {
   static itp::qp::QpResult<D> host;
   static std::array<std::uint8_t, itp::link::kMaxQpRequestBytes<D>> body{};
   // The QP-check service lives in the test firmware image only.
-  const std::string firmware =
-      !opt.firmware.empty() ? opt.firmware
-                            : (opt.target == "qemu" ? ITP_DEFAULT_QEMU_QP_CHECK_FIRMWARE : ITP_DEFAULT_HOST_QP_CHECK_FIRMWARE);
-  const hil::LinkKey key = hil::link_key_from(opt.key_file);
-  hil::FirmwareProcess fw(opt.target, firmware, key);
+  const std::string firmware = hil::apps::firmware_image(opt.target, ITP_DEFAULT_HOST_QP_CHECK_FIRMWARE,
+                                                         ITP_DEFAULT_QEMU_QP_CHECK_FIRMWARE);
+  const hil::LinkKey key = hil::link_key_from(opt.target.key_file);
+  hil::FirmwareProcess fw(opt.target.name, firmware, key);
   hil::LinkClient client(fw.process());
   client.set_key(key);
   int failures = 0;
   double worst = 0;
   fmt::print("{:<28} {:>10} {:>10} {:>6} {:>12} {:>14}\n", "file", "host", "target", "iters", "rel. diff",
-             opt.target == "qemu" ? "instructions" : "target ticks");
+             opt.target.name == "qemu" ? "instructions" : "target ticks");
   for (const std::string& path : opt.files) {
     hil::formats::QpText text;
     std::string error;
@@ -256,7 +251,7 @@ int run_qp_check(const QpCheckOptions& opt) {
     const double rel = usable ? diff / scale : 0.0;
     const bool ok = host.status == target.status && rel <= opt.tolerance;
     worst = std::max(worst, rel);
-    const double instr = opt.target == "qemu" ? static_cast<double>(target.ticks) * 40.0 : static_cast<double>(target.ticks);
+    const double instr = opt.target.name == "qemu" ? static_cast<double>(target.ticks) * 40.0 : static_cast<double>(target.ticks);
     const auto slash = path.find_last_of('/');
     fmt::print("{:<28} {:>10} {:>10} {:>6} {:>12.3e} {:>14.0f}{}\n", path.substr(slash == std::string::npos ? 0 : slash + 1),
                itp::qp::to_string(host.status), itp::qp::to_string(target.status), target.iterations, rel, instr,
@@ -330,26 +325,6 @@ int run_import(const ImportOptions& opt) {
   return 0;
 }
 
-// The CommonRoad import's options, on `import` and on `run` (for XML scenes).
-// On `import` the run length is --duration (also --scenario-duration); on `run`
-// --duration already sets the run length for every scene.
-void add_commonroad_options(CLI::App* cmd, hil::sim::CommonRoadOptions& o, bool on_import) {
-  cmd->add_option("--planning-problem", o.planning_problem,
-                  "CommonRoad: id of the planning problem that gives the ego (default: the first)");
-  cmd->add_flag("--opposite-lanes", o.opposite_lanes,
-                "CommonRoad: the drivable road includes the opposite-direction lanes beside the ego's");
-  cmd->add_option("--speed-limit", o.speed_limit,
-                  "CommonRoad: speed limit [m/s] instead of the route's max-speed signs")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option(on_import ? "--duration,--scenario-duration" : "--scenario-duration", o.duration,
-                  "CommonRoad: run length [s] written into the scene (default: the goal's time interval end or the "
-                  "last obstacle time step, at most 60 s)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_flag("--drop-set-based", o.drop_set_based,
-                "CommonRoad: leave obstacles with set-based predictions (occupancySet, phantomObstacle) out "
-                "instead of refusing the file");
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -358,14 +333,10 @@ int main(int argc, char** argv) {
 
   PingOptions ping;
   auto* ping_cmd = app.add_subcommand("ping", "Boot a firmware and exchange Ping/Pong over the link");
-  ping_cmd->add_option("--target", ping.target, "Firmware to talk to")
-      ->check(CLI::IsMember({"host", "qemu"}))
-      ->capture_default_str();
-  ping_cmd->add_option("--firmware", ping.firmware,
-                       "Firmware executable (host) or ELF (qemu); defaults to this build's");
+  hil::apps::add_target_option(*ping_cmd, ping.target, {"host", "qemu"});
+  hil::apps::add_firmware_option(*ping_cmd, ping.target);
   ping_cmd->add_option("--log", ping.log, "File for the firmware's log lines");
-  ping_cmd->add_option("--key", ping.key_file,
-                       "Link key file (32 bytes or 64 hex digits; default: a fresh random key for this run)");
+  hil::apps::add_key_option(*ping_cmd, ping.target);
   ping_cmd->add_option("--count", ping.count, "Number of round trips")->check(CLI::PositiveNumber)->capture_default_str();
   ping_cmd->add_option("--timeout-ms", ping.timeout_ms, "Reply timeout per request")->capture_default_str();
   ping_cmd->add_flag("--garbage", ping.garbage, "Inject garbage, bit flips and truncated frames between pings");
@@ -377,18 +348,14 @@ int main(int argc, char** argv) {
   QpCheckOptions qp;
   auto* qp_cmd = app.add_subcommand("qp-check", "Solve qp-text/1 files on the host and on the firmware, and compare");
   qp_cmd->add_option("files", qp.files, "qp-text/1 files")->required()->check(CLI::ExistingFile);
-  qp_cmd->add_option("--target", qp.target, "Firmware to compare with")
-      ->check(CLI::IsMember({"host", "qemu"}))
-      ->capture_default_str();
-  qp_cmd->add_option("--firmware", qp.firmware,
-                     "Firmware executable (host) or ELF (qemu) with the QP-check service (default: this build's test image)");
-  qp_cmd->add_option("--key", qp.key_file, "Link key file (default: a fresh random key for this run)");
+  hil::apps::add_target_option(*qp_cmd, qp.target, {"host", "qemu"});
+  hil::apps::add_firmware_option(*qp_cmd, qp.target, "this build's test image, which has the QP-check service");
+  hil::apps::add_key_option(*qp_cmd, qp.target);
   qp_cmd->add_option("--tolerance", qp.tolerance, "Largest relative difference of x accepted")->capture_default_str();
 
   GenOptions gen;
   auto* gen_cmd = app.add_subcommand("gen", "Write generated scenes (the paper's envelope) as scene/1 JSON files");
-  gen_cmd->add_option("--count", gen.count, "Number of scenes")->check(CLI::PositiveNumber)->capture_default_str();
-  gen_cmd->add_option("--seed", gen.seed, "Generator seed (same seed, same scenes)")->capture_default_str();
+  hil::apps::add_generator_options(*gen_cmd, gen.count, gen.seed);
   gen_cmd->add_option("--out", gen.out, "Output directory")->capture_default_str();
 
   ImportOptions imp;
@@ -397,41 +364,11 @@ int main(int argc, char** argv) {
   import_cmd->add_option("file", imp.file, "CommonRoad XML file")->required()->check(CLI::ExistingFile);
   import_cmd->add_option("--out", imp.out, "Write scene/1 here (default: standard output)");
   import_cmd->add_flag("--quiet", imp.quiet, "Do not list the import's notes (choices, defaults, content left out)");
-  add_commonroad_options(import_cmd, imp.commonroad, true);
+  hil::apps::add_commonroad_options(*import_cmd, imp.commonroad, true);
 
-  hil::sim::RunCommand run;
+  hil::apps::RunCommand run;
   auto* run_cmd = app.add_subcommand("run", "Closed-loop simulation: drive the planner over scenes, report metrics");
-  auto* scene_opt =
-      run_cmd->add_option("--scene", run.scene_files, "scene/1 JSON or CommonRoad XML file(s) to run (instead of a suite)")
-          ->check(CLI::ExistingFile);
-  run_cmd->add_option("--suite", run.suite,
-                      "Generated suite: default, or stress (every scene with 10 static + 5 dynamic obstacles)")
-      ->check(CLI::IsMember({"default", "stress"}))
-      ->excludes(scene_opt)
-      ->capture_default_str();
-  run_cmd->add_option("--count", run.count, "Number of suite scenes")->check(CLI::PositiveNumber)->capture_default_str();
-  run_cmd->add_option("--seed", run.seed, "Suite seed (same seed, same scenes)")->capture_default_str();
-  run_cmd->add_option("--target", run.target, "Planner to drive")
-      ->check(CLI::IsMember({"inproc", "host", "qemu"}))
-      ->capture_default_str();
-  run_cmd->add_option("--firmware", run.firmware, "host/qemu: firmware executable or ELF (default: this build's)");
-  run_cmd->add_option("--prediction", run.prediction, "Obstacle predictions sent to the planner: constant velocity or ground truth")
-      ->check(CLI::IsMember({"cv", "truth"}))
-      ->capture_default_str();
-  run_cmd->add_option("--report", run.report, "Write report/1 JSON here");
-  run_cmd->add_option("--plots", run.plots, "Write one SVG per scene and index.html into this directory");
-  run_cmd->add_option("--trace", run.trace, "Write one JSON object per cycle (status, reason, ego pose, speed) to this file");
-  run_cmd->add_option("--duration", run.duration, "Run length per scene [s] (default: the scene's, else 12)")
-      ->check(CLI::PositiveNumber);
-  run_cmd->add_option("--link-faults", run.link_faults,
-                      "host/qemu: byte faults on the link, both directions: drop=P,dup=P,flip=P,reorder=P[,seed=N] "
-                      "(or bytes=P, split evenly)");
-  run_cmd->add_option("--link-deadline-ms", run.link_deadline_ms,
-                      "host/qemu: time a cycle's reply may take, retransmissions included (default 1000 host, 20000 qemu)")
-      ->check(CLI::PositiveNumber);
-  run_cmd->add_option("--key", run.key_file,
-                      "host/qemu: link key file (32 bytes or 64 hex digits; default: a fresh random key for the run)");
-  add_commonroad_options(run_cmd, run.commonroad, false);
+  hil::apps::add_run_options(*run_cmd, run);
 
   std::string compare_a, compare_b, compare_json;
   auto* compare_cmd = app.add_subcommand(
@@ -455,7 +392,7 @@ int main(int argc, char** argv) {
       return run_import(imp);
     }
     if (*run_cmd) {
-      return hil::sim::run_command(run);
+      return hil::apps::run_command(run);
     }
     if (*compare_cmd) {
       return hil::sim::compare_command(compare_a, compare_b, compare_json);

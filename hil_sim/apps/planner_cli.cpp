@@ -13,6 +13,7 @@
 #include <iostream>
 #include <memory>
 
+#include "apps/common_options.hpp"
 #include "formats/plan_json.hpp"
 #include "formats/qp_text.hpp"
 #include "itp/decision/decision_tree.hpp"
@@ -21,7 +22,6 @@
 #include "sim/scene_convert.hpp"
 #include "sim/scene_files.hpp"
 #include "sim/scene_generator.hpp"
-#include "sim/link_endpoint.hpp"
 #include "itp/link/planner_messages.hpp"
 #include "sim/svg.hpp"
 
@@ -125,7 +125,7 @@ int run(const Options& opt, bool decide_only) {
   }
   const hil::sim::World& world = *loaded.world;
   auto scene = std::make_unique<itp::scene::Scene>();
-  const auto mode = opt.prediction == "cv" ? hil::sim::Prediction::kConstantVelocity : hil::sim::Prediction::kGroundTruth;
+  const auto mode = hil::apps::prediction_mode(opt.prediction);
   const auto conv = hil::sim::make_planner_scene(world, hil::sim::ego_at_start(world), opt.now, mode, *scene);
   if (!conv.ok) {
     fmt::print(stderr, "planner_cli: {}: {}\n", opt.scene_file, conv.error);
@@ -200,8 +200,7 @@ struct BatchOptions {
   int count = 100;
   std::uint64_t seed = 1;
   bool verbose = false;
-  std::string target = "inproc";
-  std::string firmware;
+  hil::apps::TargetOptions target;  // no --key: a fresh random key per run
   bool compare = false;
   double tolerance = 0.01;  // [m] largest position difference accepted by --compare
   int max_mismatches = 0;   // scenes allowed beyond the tolerance (statuses must always agree)
@@ -233,9 +232,9 @@ int run_batch(const BatchOptions& opt) {
   auto scene = std::make_unique<itp::scene::Scene>();
   planner->set_tick_source(itp::TickSource{&host_ticks, 1000000000u});
   std::unique_ptr<hil::sim::PlannerEndpoint> remote;
-  if (opt.target != "inproc") {
+  if (opt.target.name != "inproc") {
     std::string error;
-    remote = hil::sim::make_link_endpoint(opt.target, opt.firmware, &error);
+    remote = hil::apps::make_endpoint(opt.target, {}, error);
     if (!remote) {
       fmt::print(stderr, "planner_cli: {}\n", error);
       return 2;
@@ -265,7 +264,7 @@ int run_batch(const BatchOptions& opt) {
       }
       if (r.instructions >= 0) instructions.push_back(r.instructions);
       if (opt.compare) {
-        plan_as_received(*scene, opt.target == "qemu" ? 5 : 1, *reference, *expected);
+        plan_as_received(*scene, opt.target.name == "qemu" ? 5 : 1, *reference, *expected);
         double diff = expected->status == plan->status && expected->trajectory.size() == plan->trajectory.size() ? 0.0 : 1e9;
         for (std::size_t k = 0; diff < 1e9 && k < plan->trajectory.size(); ++k) {
           diff = std::max(diff, std::hypot(plan->trajectory[k].x - expected->trajectory[k].x,
@@ -276,7 +275,7 @@ int run_batch(const BatchOptions& opt) {
         status_mismatches += expected->status != plan->status ? 1 : 0;
         if (diff > opt.tolerance) {
           ++mismatches;
-          fmt::print("{}: {} differs from inproc by {:.3g} m (status {} vs {})\n", w.name, opt.target, diff,
+          fmt::print("{}: {} differs from inproc by {:.3g} m (status {} vs {})\n", w.name, opt.target.name, diff,
                      itp::to_string(plan->status), itp::to_string(expected->status));
         }
       }
@@ -298,7 +297,7 @@ int run_batch(const BatchOptions& opt) {
   }
   std::sort(times.begin(), times.end());
   for (const auto& [k, n] : outcomes) fmt::print("{:<36} {:4}\n", k, n);
-  if (!times.empty() && opt.target != "qemu") {
+  if (!times.empty() && opt.target.name != "qemu") {
     fmt::print("time per cycle [us]: median {:.0f}, max {:.0f}\n", times[times.size() / 2], times.back());
   }
   std::sort(instructions.begin(), instructions.end());
@@ -310,7 +309,7 @@ int run_batch(const BatchOptions& opt) {
   if (opt.compare) {
     std::sort(diffs.begin(), diffs.end());
     fmt::print("position difference {} vs inproc: median {:.3g} m, largest {:.3g} m; {} beyond {} m (allowed {}), "
-               "{} status mismatches\n", opt.target, diffs.empty() ? 0.0 : diffs[diffs.size() / 2], worst, mismatches,
+               "{} status mismatches\n", opt.target.name, diffs.empty() ? 0.0 : diffs[diffs.size() / 2], worst, mismatches,
                opt.tolerance, opt.max_mismatches, status_mismatches);
     return mismatches <= opt.max_mismatches && status_mismatches == 0 && outcomes.count("link_error") == 0 ? 0 : 1;
   }
@@ -321,9 +320,7 @@ void add_common(CLI::App* cmd, Options& opt) {
   cmd->add_option("scene", opt.scene_file, "scene/1 JSON or CommonRoad XML file")->required()->check(CLI::ExistingFile);
   cmd->add_option("--svg", opt.svg, "Write a picture of the cycle (SL; plan adds XY and ST views)");
   cmd->add_option("--now", opt.now, "Plan at this time of the scene [s] (obstacles move on)")->capture_default_str();
-  cmd->add_option("--prediction", opt.prediction, "Obstacle predictions: ground truth or constant velocity")
-      ->check(CLI::IsMember({"truth", "cv"}))
-      ->capture_default_str();
+  hil::apps::add_prediction_option(*cmd, opt.prediction);
   cmd->add_option("--indent", opt.indent, "JSON indentation (-1: one line)")->capture_default_str();
 }
 
@@ -341,13 +338,10 @@ int main(int argc, char** argv) {
   plan->add_option("--dump-qp", plan_opt.dump_dir, "Write every QP of the cycle as qp-text/1 into this directory");
   BatchOptions batch_opt;
   auto* batch = app.add_subcommand("batch", "Plan the first cycle of generated scenes; tally statuses and time");
-  batch->add_option("--count", batch_opt.count, "Scenes")->capture_default_str();
-  batch->add_option("--seed", batch_opt.seed, "Generator seed")->capture_default_str();
+  hil::apps::add_generator_options(*batch, batch_opt.count, batch_opt.seed);
   batch->add_flag("--verbose", batch_opt.verbose, "List every scene that does not plan ok");
-  batch->add_option("--target", batch_opt.target, "Where the planner runs")
-      ->check(CLI::IsMember({"inproc", "host", "qemu"}))
-      ->capture_default_str();
-  batch->add_option("--firmware", batch_opt.firmware, "Firmware executable (host) or ELF (qemu)");
+  hil::apps::add_target_option(*batch, batch_opt.target, {"inproc", "host", "qemu"});
+  hil::apps::add_firmware_option(*batch, batch_opt.target);
   batch->add_flag("--compare", batch_opt.compare, "Compare every target plan with the in-process planner's");
   batch->add_option("--tolerance", batch_opt.tolerance, "Position tolerance of --compare [m]")->capture_default_str();
   batch->add_option("--max-mismatches", batch_opt.max_mismatches,

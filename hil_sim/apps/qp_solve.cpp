@@ -31,9 +31,9 @@
 
 namespace {
 
-using CoarseQp = itp::qp::CoarseQpDims<double>;
-using SpeedQp = itp::qp::SpeedQpDims<double>;
-using PathQp = itp::qp::PathQpDims<double>;
+using CoarseQp = itp::qp::CoarseQpDims<double, itp::DefaultConfig>;
+using SpeedQp = itp::qp::SpeedQpDims<double, itp::DefaultConfig>;
+using PathQp = itp::qp::PathQpDims<double, itp::DefaultConfig>;
 using BandedQp = itp::qp::QpDims<double, 160, 800, 32, 16>;
 using GeneralQp = itp::qp::GeneralQpDims<double>;
 constexpr const char* kVariantNames[] = {"coarse", "speed", "path", "banded", "general"};

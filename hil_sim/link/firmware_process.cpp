@@ -27,14 +27,17 @@ void write_private(const std::string& path, const std::vector<std::uint8_t>& byt
 
 }  // namespace
 
-LinkKey random_link_key() {
-  LinkKey key{};
+template <class Bytes>
+Bytes random_bytes() {
+  Bytes bytes{};
   std::random_device rd;
-  for (auto& b : key) {
+  for (auto& b : bytes) {
     b = static_cast<std::uint8_t>(rd());
   }
-  return key;
+  return bytes;
 }
+
+LinkKey random_link_key() { return random_bytes<LinkKey>(); }
 
 std::optional<LinkKey> read_link_key(const std::string& path, std::string& error) {
   std::ifstream in(path, std::ios::binary);
@@ -56,7 +59,7 @@ std::optional<LinkKey> read_link_key(const std::string& path, std::string& error
   }
   if (hex.size() != 2 * key.size() ||
       hex.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) {
-    error = "key file '" + path + "' holds neither 32 bytes nor 64 hexadecimal digits";
+    error = "key file '" + path + "' holds neither 16 bytes nor 32 hexadecimal digits (an AES-128 key)";
     return std::nullopt;
   }
   for (std::size_t i = 0; i < key.size(); ++i) {
@@ -91,7 +94,7 @@ FirmwareProcess::FirmwareProcess(const std::string& target, const std::string& f
       // port/mps2_an500's key slot: "ITPK", the key, this boot's entropy.
       std::vector<std::uint8_t> slot{'I', 'T', 'P', 'K'};
       slot.insert(slot.end(), key.begin(), key.end());
-      const LinkKey entropy = random_link_key();
+      const BootEntropy entropy = random_bytes<BootEntropy>();
       slot.insert(slot.end(), entropy.begin(), entropy.end());
       const std::string slot_file = dir_ + "/key_slot.bin";
       write_private(slot_file, slot);

@@ -14,11 +14,14 @@
 
 namespace hil {
 
-using LinkKey = std::array<std::uint8_t, 32>;
+// The link's long-term key: AES-128 (the link's MAC is AES-128-CMAC).
+using LinkKey = std::array<std::uint8_t, 16>;
+// Boot entropy handed to a QEMU firmware through its key slot.
+using BootEntropy = std::array<std::uint8_t, 32>;
 
 // A fresh random key (std::random_device).
 LinkKey random_link_key();
-// Reads a key file: 32 raw bytes, or 64 hexadecimal digits (whitespace
+// Reads a key file: 16 raw bytes, or 32 hexadecimal digits (whitespace
 // around them ignored). nullopt, with `error` set, otherwise.
 std::optional<LinkKey> read_link_key(const std::string& path, std::string& error);
 // `path` empty: a random key; else the file's key (throws std::runtime_error

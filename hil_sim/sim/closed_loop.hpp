@@ -4,19 +4,17 @@
 // obstacles' perceived state become a planner Scene; the returned plan is
 // tracked by the vehicle model for 0.1 s in 10 ms substeps while the obstacles
 // move along their ground truth; SceneMetrics sees the true footprints.
-// `hil_sim run` (run_command) runs suites of worlds with a progress bar, a
-// summary table, report/1 and per-scene SVG plots. docs/simulation.md.
-#include <cstdint>
+// `hil_sim run` (apps/run_command) runs suites of worlds through it;
+// sim/scene_plots, sim/summary_table and sim/cycle_trace present the results.
+// docs/simulation.md.
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
-
+#include "itp/core/status.hpp"
 #include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
-#include "sim/commonroad_world.hpp"
 #include "sim/metrics.hpp"
 #include "sim/planner_endpoint.hpp"
 #include "sim/scene_convert.hpp"
@@ -43,7 +41,7 @@ struct RunOptions {
 // One planning cycle as the loop saw it (the state is the one planned from).
 struct CycleRecord {
   double t = 0.0;                  // [s] scene time of the cycle
-  PlanStatus status = PlanStatus::kNone;  // kNone: the endpoint gave no plan (link error)
+  std::optional<itp::PlanStatus> status;  // nullopt: the endpoint gave no plan (link error)
   std::string reason;              // fallback / invalid_input reason, or the link error
   int iterations = 0;
   double cycle_time_us = -1.0;     // < 0: not measured
@@ -91,40 +89,5 @@ struct SceneRunResult {
 // error). Capacity does not: the scene keeps the most relevant obstacles and
 // the cycle counts the others (CycleRecord::left_out).
 SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const RunOptions& options);
-
-// The per-scene SVG: the XY view of the run (ego footprints over time and the
-// obstacles), speed, clearance, accelerations and plan status over time, and
-// for each snapshot the SL / XY / ST views of that cycle re-planned in-process.
-std::string scene_run_svg(const World& world, const SceneRunResult& result);
-
-// The fmt summary table of a suite (report/1 as written by SuiteAggregator).
-std::string summary_table(const nlohmann::json& report);
-
-// `hil_sim run`.
-struct RunCommand {
-  std::vector<std::string> scene_files;  // scene/1 or CommonRoad XML files; empty: the generated suite
-  CommonRoadOptions commonroad;          // how CommonRoad files are imported
-  std::string suite = "default";
-  int count = 200;
-  std::uint64_t seed = 1;
-  std::string target = "inproc";         // inproc | host | qemu
-  std::string firmware;                  // host / qemu: executable or ELF ("" = this build's)
-  std::string prediction = "cv";         // cv | truth
-  std::string report;                    // report/1 path ("" = none)
-  std::string plots;                     // directory for SVGs and index.html ("" = none)
-  std::string trace;                     // JSON Lines file, one object per cycle ("" = none)
-  double duration = -1.0;                // [s] <= 0: each world's own
-  std::string link_faults;               // host/qemu: "drop=P,dup=P,flip=P,reorder=P[,seed=N]" ("" = none)
-  int link_deadline_ms = 0;              // host/qemu: per cycle, retransmissions included (<= 0: the target's default)
-  std::string key_file;                  // host/qemu: the link key ("" = a fresh random key for the run)
-};
-
-// Returns the process exit code: 0 when every scene ran (collisions are
-// results), 2 on usage / setup errors (unreadable scene, unknown target,
-// unwritable output), 3 when a scene crashed (the endpoint threw or a world
-// has no usable reference line), 4 when the link failed: a link error on a
-// link without injected faults, or (with --link-faults) a scene that never
-// got a plan at all. The report is written in every case but 2.
-int run_command(const RunCommand& command);
 
 }  // namespace hil::sim

@@ -92,6 +92,17 @@ class LinkEndpoint final : public PlannerEndpoint {
 
   std::string name() const override { return target_; }
 
+  std::optional<itp::link::Diagnostics> diagnostics() override {
+    const auto reply = client_.request(itp::link::MessageType::kDiagnosticsRequest, {},
+                                       std::chrono::milliseconds(target_ == "qemu" ? 20000 : 5000));
+    itp::link::Diagnostics diag;
+    if (!reply || reply->type != itp::link::MessageType::kDiagnosticsReply ||
+        !itp::link::decode(reply->payload, diag)) {
+      return std::nullopt;
+    }
+    return diag;
+  }
+
   nlohmann::json link_statistics() const override {
     const ClientCounters& c = client_.counters();
     const itp::link::LinkCounters& rx = client_.rx_counters();

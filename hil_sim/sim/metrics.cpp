@@ -70,12 +70,12 @@ void SceneMetrics::add_step(const StepSample& x) {
   s_.max_abs_lateral_offset = std::max(s_.max_abs_lateral_offset, std::abs(x.lateral_offset));
   s_.max_abs_heading_error = std::max(s_.max_abs_heading_error, std::abs(x.heading_error));
 
-  if (x.status != PlanStatus::kNone) {
+  if (x.status) {
     ++s_.cycles;
-    if (x.status == PlanStatus::kFallback) {
+    if (x.status == itp::PlanStatus::kFallback) {
       ++s_.fallbacks;
       ++s_.fallback_reasons[x.reason.empty() ? "unspecified" : x.reason];
-    } else if (x.status == PlanStatus::kInvalidInput) {
+    } else if (x.status == itp::PlanStatus::kInvalidInput) {
       ++s_.invalid_inputs;
       ++s_.invalid_input_reasons[x.reason.empty() ? "unspecified" : x.reason];
     }

@@ -9,13 +9,12 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "itp/core/status.hpp"
 #include "sim/box_geometry.hpp"
 #include "sim/vehicle_model.hpp"
 #include "sim/world.hpp"
 
 namespace hil::sim {
-
-enum class PlanStatus { kNone, kOk, kFallback, kInvalidInput };
 
 // Smallest signed distance of the box's corners inside the drivable area
 // (min over corners of min(left(s) - l, l - right(s))); negative when a
@@ -35,8 +34,9 @@ struct StepSample {
   double road_margin = 0.0;               // [m] see road_margin()
   double a_lon = 0.0;                     // [m/s^2]
   double a_lat = 0.0;                     // [m/s^2] v^2 kappa
-  // The planning cycle of this step (kNone: no plan was requested this step).
-  PlanStatus status = PlanStatus::kNone;
+  // The planning cycle of this step (nullopt: no plan this step: none was
+  // requested, or the link gave none).
+  std::optional<itp::PlanStatus> status;
   std::string reason;                     // fallback / invalid_input reason
   std::optional<int> iterations;
   std::optional<double> cycle_time_us;    // host targets
@@ -46,7 +46,7 @@ struct StepSample {
 struct SceneSummary {
   std::string name;
   int steps = 0;
-  int cycles = 0;                       // steps with status != kNone
+  int cycles = 0;                       // steps with a status (a plan came back)
   int collision_steps = 0;              // steps with any ego/obstacle overlap
   // The first collision: the ego ran into the obstacle, or was hit by it.
   // Of the closing speed along the line between the two centres (ego to

@@ -4,10 +4,12 @@
 // framing, may pass the bytes through a loopback link); `host` and `qemu`
 // send a Scene message over the serial-like link to a firmware and decode
 // its Plan message (hil_sim/link/, docs/protocol.md).
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "itp/link/messages.hpp"
 #include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
 
@@ -29,6 +31,9 @@ class PlannerEndpoint {
   // Plans one cycle at scene time `now` (the Scene's predictions are in scene time).
   virtual EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) = 0;
   virtual std::string name() const = 0;  // "inproc", "host", "qemu"
+  // The firmware's resource use (Diagnostics message); nullopt when the
+  // endpoint has no firmware or it did not answer.
+  virtual std::optional<itp::link::Diagnostics> diagnostics() { return std::nullopt; }
   // What the link counted over the run (report/1 key "link"); null without a link.
   virtual nlohmann::json link_statistics() const { return nullptr; }
 };

@@ -8,6 +8,7 @@
 #include <new>
 #include <span>
 
+#include "itp/core/stack_probe.hpp"
 #include "itp/core/tick_source.hpp"
 #include "itp/link/frame.hpp"
 #include "port/port.hpp"
@@ -35,8 +36,9 @@ void run(std::byte* storage, const char* build_id) {
   Service* service = ::new (storage) Service();  // placement: no heap
   service->set_build_id(build_id);
   service->set_tick_source(itp::TickSource{&port::counter_ticks, port::counter_hz()});
-  std::array<std::uint8_t, 32> key{};
-  std::array<std::uint8_t, 32> entropy{};
+  service->set_stack_probe(itp::StackProbe{&port::stack_peak_bytes, port::stack_size_bytes()});
+  std::array<std::uint8_t, port::kLinkKeyBytes> key{};
+  std::array<std::uint8_t, port::kBootEntropyBytes> entropy{};
   const bool have_key = port::link_key(key);
   const bool have_entropy = port::boot_entropy(entropy);
   service->provision(have_key ? std::span<const std::uint8_t>(key) : std::span<const std::uint8_t>(),

@@ -1,15 +1,14 @@
-// The production firmware image: Ping, the authenticated session and the
-// planner, for the configuration chosen in firmware_config.hpp.
+// The production firmware image: Ping, Diagnostics, the authenticated session
+// and the planner, for the configuration chosen in firmware_config.hpp.
 #include <cstddef>
 
-#include "firmware_config.hpp"
 #include "firmware_loop.hpp"
-#include "itp/app/firmware_service.hpp"
+#include "image_services.hpp"
 #include "port/firmware_run.hpp"
 
 namespace {
 
-using Service = itp::app::FirmwareService<port_image::FirmwareConfig>;
+using Service = port_image::PlannerService;
 alignas(Service) std::byte g_service_storage[sizeof(Service)];
 
 }  // namespace

@@ -3,16 +3,13 @@
 // agreement tests use (hil_sim qp-check). Never flashed on a product.
 #include <cstddef>
 
-#include "firmware_config.hpp"
 #include "firmware_loop.hpp"
-#include "itp/app/firmware_service.hpp"
-#include "itp/app/qp_check_service.hpp"
+#include "image_services.hpp"
 #include "port/firmware_run.hpp"
 
 namespace {
 
-using QpCheck = itp::app::QpCheckService<itp::qp::PathQpDims<itp::Scalar, port_image::FirmwareConfig>>;
-using Service = itp::app::FirmwareService<port_image::FirmwareConfig, QpCheck>;
+using Service = port_image::QpCheckImageService;
 alignas(Service) std::byte g_service_storage[sizeof(Service)];
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Host port: the firmware as an ordinary process. The serial line is
 // stdin/stdout (a simulator drives it through pipes), the log is stderr and
 // the counter is CLOCK_MONOTONIC in nanoseconds. The key slot is a file named
-// by the environment variable ITP_LINK_KEY_FILE (32 raw bytes, as hil_sim
+// by the environment variable ITP_LINK_KEY_FILE (16 raw bytes, as hil_sim
 // writes it for the firmware it starts), the boot entropy getrandom().
 #include <fcntl.h>
 #include <poll.h>
@@ -69,9 +69,12 @@ void idle() {
   poll(&pfd, 1, 1);  // wait at most 1 ms for input
 }
 
+std::uint32_t stack_size_bytes() { return 0u; }  // the host's stack is the OS's business
+std::uint32_t stack_peak_bytes() { return 0u; }
+
 bool keep_running() { return g_open; }
 
-bool link_key(std::span<std::uint8_t, 32> key) {
+bool link_key(std::span<std::uint8_t, kLinkKeyBytes> key) {
   const char* path = std::getenv("ITP_LINK_KEY_FILE");
   if (path == nullptr || *path == '\0') {
     return false;
@@ -89,12 +92,12 @@ bool link_key(std::span<std::uint8_t, 32> key) {
     got += static_cast<std::size_t>(n);
   }
   std::uint8_t extra = 0;
-  const bool exact = got == key.size() && read(fd, &extra, 1) == 0;  // exactly 32 bytes
+  const bool exact = got == key.size() && read(fd, &extra, 1) == 0;  // exactly 16 bytes
   close(fd);
   return exact;
 }
 
-bool boot_entropy(std::span<std::uint8_t, 32> entropy) {
+bool boot_entropy(std::span<std::uint8_t, kBootEntropyBytes> entropy) {
   return getrandom(entropy.data(), entropy.size(), 0) == static_cast<ssize_t>(entropy.size());
 }
 

@@ -53,10 +53,14 @@ inline constexpr std::uint32_t kUart0TxIrqBit = 1u << 1;
 inline constexpr std::uintptr_t kKeySlotAddress = 0x203FFF00u;
 struct KeySlot {
   std::uint8_t magic[4];     // "ITPK" when provisioned
-  std::uint8_t key[32];      // the link's long-term key
+  std::uint8_t key[16];      // the link's long-term key (AES-128)
   std::uint8_t entropy[32];  // differs on every boot
 };
 inline constexpr std::uint8_t kKeySlotMagic[4] = {'I', 'T', 'P', 'K'};
+
+// Start-up paints every free stack word with this pattern; the first word
+// from the bottom that differs marks the deepest use (docs/memory.md).
+inline constexpr std::uint32_t kStackPaint = 0x5AC4C0DEu;
 
 inline CmsdkUart& uart0() { return *reinterpret_cast<CmsdkUart*>(kUart0Base); }
 inline CmsdkUart& uart1() { return *reinterpret_cast<CmsdkUart*>(kUart1Base); }

@@ -5,6 +5,11 @@
 #include "mps2_an500.hpp"
 #include "port/port.hpp"
 
+extern "C" {
+// Provided by mps2_an500.ld: the stack region [_sstack, _estack).
+extern std::uint32_t _sstack[], _estack[];
+}
+
 namespace port {
 namespace {
 
@@ -96,22 +101,37 @@ void idle() {
   }
 }
 
+std::uint32_t stack_size_bytes() {
+  return static_cast<std::uint32_t>(_estack - _sstack) * sizeof(std::uint32_t);
+}
+
+// Scans up from the bottom for the first word the code has written over the
+// start-up paint (startup.cpp). A word that happens to hold the pattern looks
+// unused: the peak can read at most a few words low, never high.
+std::uint32_t stack_peak_bytes() {
+  const volatile std::uint32_t* word = _sstack;
+  while (word < _estack && *word == mps2::kStackPaint) {  // bounded by the stack size
+    ++word;
+  }
+  return static_cast<std::uint32_t>(_estack - word) * sizeof(std::uint32_t);
+}
+
 bool keep_running() { return true; }
 
-bool link_key(std::span<std::uint8_t, 32> key) {
+bool link_key(std::span<std::uint8_t, kLinkKeyBytes> key) {
   volatile mps2::KeySlot& slot = mps2::key_slot();
   for (std::size_t i = 0; i < 4; ++i) {  // magic
     if (slot.magic[i] != mps2::kKeySlotMagic[i]) {
       return false;
     }
   }
-  for (std::size_t i = 0; i < key.size(); ++i) {  // 32 bytes
+  for (std::size_t i = 0; i < key.size(); ++i) {  // 16 bytes
     key[i] = slot.key[i];
   }
   return true;
 }
 
-bool boot_entropy(std::span<std::uint8_t, 32> entropy) {
+bool boot_entropy(std::span<std::uint8_t, kBootEntropyBytes> entropy) {
   volatile mps2::KeySlot& slot = mps2::key_slot();
   std::uint8_t any = 0;
   for (std::size_t i = 0; i < entropy.size(); ++i) {  // 32 bytes, used once

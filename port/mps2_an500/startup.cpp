@@ -8,7 +8,7 @@
 
 extern "C" {
 // Provided by mps2_an500.ld.
-extern std::uint32_t _sidata[], _sdata[], _edata[], _sbss[], _ebss[], _estack[];
+extern std::uint32_t _sidata[], _sdata[], _edata[], _sbss[], _ebss[], _sstack[], _estack[];
 extern void (*__init_array_start[])();
 extern void (*__init_array_end[])();
 
@@ -30,6 +30,15 @@ void write_log_text(const char* text) {
 }  // namespace
 
 extern "C" void Reset_Handler() {
+  // Paint the free stack (docs/memory.md): every word from the bottom up to
+  // the current stack pointer, i.e. below this function's own frame, which is
+  // live. port::stack_peak_bytes() finds the deepest word overwritten since.
+  std::uint32_t* sp = nullptr;
+  __asm volatile("mov %0, sp" : "=r"(sp));
+  for (volatile std::uint32_t* word = _sstack; word < sp; ++word) {  // bounded by the stack size
+    *word = port::mps2::kStackPaint;
+  }
+
   // Enable CP10/CP11 (the FPU) before any floating-point instruction runs.
   *reinterpret_cast<volatile std::uint32_t*>(port::mps2::kCpacr) |= (0xFu << 20);
   __asm volatile("dsb\n\tisb" ::: "memory");

@@ -18,16 +18,23 @@ namespace app_test {
 
 using Service = itp::app::FirmwareService<itp::DefaultConfig>;
 
-inline std::array<std::uint8_t, 32> test_key(std::uint8_t seed = 1) {
-  std::array<std::uint8_t, 32> k{};
+// A link key (AES-128, 16 bytes) and boot entropy (32 bytes): test data, not secrets.
+inline std::array<std::uint8_t, itp::link::kKeyBytes> test_key(std::uint8_t seed = 1) {
+  std::array<std::uint8_t, itp::link::kKeyBytes> k{};
   for (std::size_t i = 0; i < k.size(); ++i) k[i] = static_cast<std::uint8_t>(seed + 17 * i);
   return k;
+}
+
+inline std::array<std::uint8_t, itp::link::kEntropyBytes> test_entropy(std::uint8_t seed = 99) {
+  std::array<std::uint8_t, itp::link::kEntropyBytes> e{};
+  for (std::size_t i = 0; i < e.size(); ++i) e[i] = static_cast<std::uint8_t>(seed + 17 * i);
+  return e;
 }
 
 inline std::unique_ptr<Service> provisioned_service(std::uint8_t key_seed = 1) {
   auto svc = std::make_unique<Service>();
   const auto key = test_key(key_seed);
-  const auto entropy = test_key(99);
+  const auto entropy = test_entropy(99);
   svc->provision(key, entropy);
   svc->set_build_id("itplan-unit");
   return svc;

@@ -98,6 +98,37 @@ TEST_CASE("a firmware without a key refuses the handshake with no_key") {
   CHECK(err.code == AuthStatus::kNoKey);
 }
 
+namespace {
+std::uint32_t fake_peak() { return 1234u; }
+}  // namespace
+
+TEST_CASE("Diagnostics reports the port's stack probe, 0 / 0 without one, with no key or session") {
+  auto svc = std::make_unique<app_test::Service>();  // not provisioned: Diagnostics is not authenticated
+  const std::vector<std::uint8_t> empty;
+  auto replies = exchange(*svc, link_test::wire_frame(MessageType::kDiagnosticsRequest, 3, empty));
+  REQUIRE(replies.size() == 1);
+  CHECK(replies[0].first.type == MessageType::kDiagnosticsReply);
+  Diagnostics diag;
+  REQUIRE(decode(replies[0].second, diag));
+  CHECK(diag.stack_bytes == 0);
+  CHECK(diag.stack_peak_bytes == 0);
+
+  svc->set_stack_probe(itp::StackProbe{&fake_peak, 4096u});
+  replies = exchange(*svc, link_test::wire_frame(MessageType::kDiagnosticsRequest, 4, empty));
+  REQUIRE(replies.size() == 1);
+  REQUIRE(decode(replies[0].second, diag));
+  CHECK(diag.stack_bytes == 4096u);
+  CHECK(diag.stack_peak_bytes == 1234u);
+
+  const std::vector<std::uint8_t> body{1};  // the request has an empty body
+  replies = exchange(*svc, link_test::wire_frame(MessageType::kDiagnosticsRequest, 5, body));
+  REQUIRE(replies.size() == 1);
+  ErrorReply err;
+  REQUIRE(decode(replies[0].second, err));
+  CHECK(err.code == ErrorCode::kMalformedPayload);
+  CHECK(svc->counters().auth.no_key == 0);  // never went near the secure channel
+}
+
 TEST_CASE("garbage is counted and dropped, and the firmware keeps answering, without heap") {
   auto svc = app_test::provisioned_service();
   std::mt19937 rng(99);

@@ -185,7 +185,7 @@ TEST_CASE("forged and replayed replies are never accepted by the host") {
   SecureChannel fw(Role::kFirmware);
   SecureChannel host(Role::kHost);
   fw.set_key(app_test::test_key());
-  fw.set_entropy(app_test::test_key(5));
+  fw.set_entropy(app_test::test_entropy(5));
   host.set_key(app_test::test_key());
   std::array<std::uint8_t, kNonceBytes> nh{};
   std::array<std::uint8_t, kHandshakeBytes> open_body{}, challenge{}, confirm{};

@@ -1,16 +1,20 @@
 // Google Benchmark of the planner (docs/performance.md): the full cycle over
 // generated scenes of the paper's envelope, and the decision stage on the
 // busiest scenes (10 static + 5 dynamic obstacles), and the steady state of a
-// planner running at 10 Hz (stitched cycles). Timing is measured here,
-// never asserted in tests.
+// planner running at 10 Hz (stitched cycles); the same first cycles with the
+// road configuration (RoadConfig: a 32 + 32 object list), as they are and with
+// 16 parked cars and 8 cars on a parallel road added. Timing is measured
+// here, never asserted in tests.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <ctime>
 #include <memory>
 #include <numeric>
 #include <vector>
 
+#include "itp/configurations.hpp"
 #include "itp/planner/planner.hpp"
 #include "sim/scene_convert.hpp"
 #include "sim/scene_generator.hpp"
@@ -57,7 +61,8 @@ struct Samples {
   int ok = 0, fallback = 0, invalid = 0;
 };
 
-void record(const itp::planner::Plan& plan, Samples& out) {
+template <class PlanT>
+void record(const PlanT& plan, Samples& out) {
   const auto us = [](std::uint64_t ns) { return static_cast<double>(ns) / 1e3; };
   out.total_us.push_back(us(plan.timing.total));
   out.prepare_us.push_back(us(plan.timing.prepare));
@@ -74,11 +79,12 @@ void record(const itp::planner::Plan& plan, Samples& out) {
   out.invalid += plan.status == itp::PlanStatus::kInvalidInput ? 1 : 0;
 }
 
-void plan_all(const std::vector<itp::scene::Scene>& scenes, itp::planner::Planner& planner,
-              itp::planner::Plan& plan, Samples& out) {
+template <class Cfg>
+void plan_all(const std::vector<itp::scene::BasicScene<Cfg>>& scenes, itp::planner::BasicPlanner<Cfg>& planner,
+              itp::planner::BasicPlan<Cfg>& plan, Samples& out) {
   for (const auto& s : scenes) {
     planner.reset();  // every scene is a first cycle: no stitching
-    planner.plan(itp::planner::PlanRequest{&s, 0.0}, plan);
+    planner.plan(itp::planner::BasicPlanRequest<Cfg>{&s, 0.0}, plan);
     record(plan, out);
   }
 }
@@ -125,9 +131,10 @@ void keep_fastest(Samples& best, const Samples& pass, bool first) {
 }
 
 // One benchmark iteration = every scene planned once (a pass).
-void run_suite(benchmark::State& state, const std::vector<itp::scene::Scene>& scenes) {
-  auto planner = std::make_unique<itp::planner::Planner>();
-  auto plan = std::make_unique<itp::planner::Plan>();
+template <class Cfg>
+void run_suite(benchmark::State& state, const std::vector<itp::scene::BasicScene<Cfg>>& scenes) {
+  auto planner = std::make_unique<itp::planner::BasicPlanner<Cfg>>();
+  auto plan = std::make_unique<itp::planner::BasicPlan<Cfg>>();
   planner->set_tick_source(itp::TickSource{&now_ns, 1000000000u});
   Samples samples;
   bool first = true;
@@ -198,10 +205,102 @@ void BM_FullCycle_Busy_10s_5d(benchmark::State& state) {
   run_suite(state, scenes);
 }
 
+// The road configuration. A default scene in RoadConfig's capacities
+// (predictions every 0.2 s), plus `parked` cars 2.5 m beyond the right road
+// edge and `parallel` cars on a road 6 m beyond it (constant velocity along
+// the reference line's local direction): objects the ST graph and the
+// collision check see, the decision stage does not need.
+using RoadScene = itp::scene::BasicScene<itp::RoadConfig>;
+
+RoadScene to_road(const itp::scene::Scene& d, int parked, int parallel) {
+  RoadScene r;
+  for (const auto& p : d.reference_line) static_cast<void>(r.reference_line.push_back(p));
+  r.road.lane_width = d.road.lane_width;
+  r.road.left.offset = d.road.left.offset;
+  r.road.right.offset = d.road.right.offset;
+  for (const auto& b : d.road.left.table) static_cast<void>(r.road.left.table.push_back(b));
+  for (const auto& b : d.road.right.table) static_cast<void>(r.road.right.table.push_back(b));
+  r.road.target_lane_offset = d.road.target_lane_offset;
+  r.road.speed_limit = d.road.speed_limit;
+  r.ego = d.ego;
+  for (const auto& o : d.static_obstacles) static_cast<void>(r.static_obstacles.push_back(o));
+  for (const auto& o : d.dynamic_obstacles) {
+    typename decltype(r.dynamic_obstacles)::value_type m;
+    m.id = o.id;
+    m.length = o.length;
+    m.width = o.width;
+    for (std::size_t k = 0; k < o.trajectory.size(); k += 2) static_cast<void>(m.trajectory.push_back(o.trajectory[k]));
+    static_cast<void>(r.dynamic_obstacles.push_back(m));
+  }
+  // Arc length and right edge along the reference polyline.
+  const std::size_t n = d.reference_line.size();
+  double s_along = 0;
+  int placed_parked = 0, placed_parallel = 0;
+  for (std::size_t i = 0; i + 1 < n && (placed_parked < parked || placed_parallel < parallel); ++i) {
+    const auto a = d.reference_line[i];
+    const auto b = d.reference_line[i + 1];
+    const double dx = b.x - a.x, dy = b.y - a.y, len = std::hypot(dx, dy);
+    if (len > 1e-9 && i % 3 == 1) {
+      const double ux = dx / len, uy = dy / len, heading = std::atan2(uy, ux);
+      const double edge = d.road.right.at(s_along);
+      if (placed_parked < parked) {
+        itp::scene::StaticObstacle o;
+        o.id = 1000 + placed_parked++;
+        o.x = a.x - uy * (edge - 2.5);  // left normal (-uy, ux), l = edge - 2.5
+        o.y = a.y + ux * (edge - 2.5);
+        o.heading = heading;
+        o.length = 4.5;
+        o.width = 1.8;
+        static_cast<void>(r.static_obstacles.push_back(o));
+      } else if (placed_parallel < parallel) {
+        typename decltype(r.dynamic_obstacles)::value_type m;
+        m.id = 2000 + placed_parallel++;
+        m.length = 4.5;
+        m.width = 1.8;
+        const double x0 = a.x - uy * (edge - 6.0), y0 = a.y + ux * (edge - 6.0);
+        for (int k = 0; k < itp::RoadConfig::kMaxPredictionSamples; ++k) {
+          itp::scene::TimedPose p;
+          p.t = 0.2 * k;
+          p.x = x0 + 10.0 * ux * p.t;
+          p.y = y0 + 10.0 * uy * p.t;
+          p.heading = heading;
+          p.v = 10.0;
+          static_cast<void>(m.trajectory.push_back(p));
+        }
+        static_cast<void>(r.dynamic_obstacles.push_back(m));
+      }
+    }
+    s_along += len;
+  }
+  return r;
+}
+
+std::vector<RoadScene> make_road_scenes(int count, const hil::sim::GeneratorConfig& config, int parked,
+                                        int parallel) {
+  std::vector<RoadScene> out;
+  for (const auto& s : make_scenes(count, config)) out.push_back(to_road(s, parked, parallel));
+  return out;
+}
+
+void BM_FullCycle_Envelope_Road(benchmark::State& state) {
+  static const auto scenes = make_road_scenes(kEnvelopeScenes, hil::sim::GeneratorConfig{}, 0, 0);
+  run_suite(state, scenes);
+}
+
+void BM_FullCycle_Road_Busy_Plus16s_8d(benchmark::State& state) {
+  hil::sim::GeneratorConfig busy;
+  busy.min_static = busy.max_static = 10;
+  busy.min_dynamic = busy.max_dynamic = 5;
+  static const auto scenes = make_road_scenes(kBusyScenes, busy, 16, 8);
+  run_suite(state, scenes);
+}
+
 }  // namespace
 
 BENCHMARK(BM_FullCycle_Envelope)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_FullCycle_Busy_10s_5d)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_SteadyCycle_Envelope)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_FullCycle_Envelope_Road)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_FullCycle_Road_Busy_Plus16s_8d)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 BENCHMARK_MAIN();

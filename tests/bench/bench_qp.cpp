@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "itp/qp/qp.hpp"
+#include "default_qp_shapes.hpp"
 #include "planner_qps.hpp"
 
 using namespace itp::qp;
@@ -92,7 +93,7 @@ void run_hot(benchmark::State& state, Sequence<D>& seq) {
 // Replanning with the obstacle fixed in the road frame: the initial state and
 // the obstacle's lateral edge (perception noise) change from cycle to cycle.
 template <typename S>
-bool path(QpProblem<PathQpDims<S>>& p, int k) {
+bool path(QpProblem<PathQp<S>>& p, int k) {
   planner_qps::PathScenario sc;
   sc.init_l = 0.04 * k;
   sc.init_dl = 0.005 * k;
@@ -104,7 +105,7 @@ bool path(QpProblem<PathQpDims<S>>& p, int k) {
 // sample): every active corridor row changes index -- a hard case for warm
 // starts.
 template <typename S>
-bool path_shift(QpProblem<PathQpDims<S>>& p, int k) {
+bool path_shift(QpProblem<PathQp<S>>& p, int k) {
   planner_qps::PathScenario sc;
   sc.init_l = 0.04 * k;
   sc.init_dl = 0.005 * k;
@@ -115,7 +116,7 @@ bool path_shift(QpProblem<PathQpDims<S>>& p, int k) {
 }
 
 template <typename S>
-bool speed(QpProblem<SpeedQpDims<S>>& p, int k) {
+bool speed(QpProblem<SpeedQp<S>>& p, int k) {
   planner_qps::SpeedScenario sc;
   sc.v0 = 15.0 - 0.1 * k;
   sc.lead_s0 = 30.0 - 0.6 * k;
@@ -123,7 +124,7 @@ bool speed(QpProblem<SpeedQpDims<S>>& p, int k) {
 }
 
 template <typename S>
-bool coarse(QpProblem<CoarseQpDims<S>>& p, int k) {
+bool coarse(QpProblem<CoarseQp<S>>& p, int k) {
   planner_qps::CoarseScenario sc;
   sc.l_init = 0.03 * k;
   sc.obstacle_left = 2.45 + 0.02 * k;
@@ -132,22 +133,22 @@ bool coarse(QpProblem<CoarseQpDims<S>>& p, int k) {
 }
 
 template <typename S>
-Sequence<PathQpDims<S>>& path_seq() {
-  static auto seq = make_sequence<PathQpDims<S>>(path<S>);
+Sequence<PathQp<S>>& path_seq() {
+  static auto seq = make_sequence<PathQp<S>>(path<S>);
   return *seq;
 }
-Sequence<PathQpDims<double>>& path_shift_seq() {
-  static auto seq = make_sequence<PathQpDims<double>>(path_shift<double>);
-  return *seq;
-}
-template <typename S>
-Sequence<SpeedQpDims<S>>& speed_seq() {
-  static auto seq = make_sequence<SpeedQpDims<S>>(speed<S>);
+Sequence<PathQp<double>>& path_shift_seq() {
+  static auto seq = make_sequence<PathQp<double>>(path_shift<double>);
   return *seq;
 }
 template <typename S>
-Sequence<CoarseQpDims<S>>& coarse_seq() {
-  static auto seq = make_sequence<CoarseQpDims<S>>(coarse<S>);
+Sequence<SpeedQp<S>>& speed_seq() {
+  static auto seq = make_sequence<SpeedQp<S>>(speed<S>);
+  return *seq;
+}
+template <typename S>
+Sequence<CoarseQp<S>>& coarse_seq() {
+  static auto seq = make_sequence<CoarseQp<S>>(coarse<S>);
   return *seq;
 }
 
@@ -167,11 +168,11 @@ void BM_PathWarmFloat(benchmark::State& s) { run_warm(s, path_seq<float>()); }
 
 void BM_Sizes(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(state.iterations());
-  state.counters["ws_path_B"] = sizeof(QpWorkspace<PathQpDims<double>>);
-  state.counters["ws_speed_B"] = sizeof(QpWorkspace<SpeedQpDims<double>>);
-  state.counters["ws_coarse_B"] = sizeof(QpWorkspace<CoarseQpDims<double>>);
-  state.counters["problem_path_B"] = sizeof(QpProblem<PathQpDims<double>>);
-  state.counters["result_path_B"] = sizeof(QpResult<PathQpDims<double>>);
+  state.counters["ws_path_B"] = sizeof(QpWorkspace<PathQp<double>>);
+  state.counters["ws_speed_B"] = sizeof(QpWorkspace<SpeedQp<double>>);
+  state.counters["ws_coarse_B"] = sizeof(QpWorkspace<CoarseQp<double>>);
+  state.counters["problem_path_B"] = sizeof(QpProblem<PathQp<double>>);
+  state.counters["result_path_B"] = sizeof(QpResult<PathQp<double>>);
 }
 
 }  // namespace

@@ -24,8 +24,8 @@ inline void check(bool ok) {
   if (!ok) __builtin_trap();
 }
 
-inline std::array<std::uint8_t, 32> key() {
-  std::array<std::uint8_t, 32> k{};
+inline std::array<std::uint8_t, link::kKeyBytes> key() {
+  std::array<std::uint8_t, link::kKeyBytes> k{};
   for (std::size_t i = 0; i < k.size(); ++i) k[i] = static_cast<std::uint8_t>(0x5A ^ (7 * i));
   return k;
 }

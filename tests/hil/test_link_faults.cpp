@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "apps/run_command.hpp"
 #include "link/fault_injection.hpp"
 #include "sim/closed_loop.hpp"
 #include "sim/link_endpoint.hpp"
@@ -118,14 +119,14 @@ TEST_CASE("closed loop over the host firmware at 1 % byte faults both ways: plan
 
 TEST_CASE("hil_sim run fails (exit 4) when the link fails, instead of reporting success") {
   // /bin/cat answers every frame with itself: never a plan.
-  sim::RunCommand cmd;
+  apps::RunCommand cmd;
   cmd.suite = "default";
   cmd.count = 1;
-  cmd.target = "host";
-  cmd.firmware = "/bin/cat";
+  cmd.target.name = "host";
+  cmd.target.firmware = "/bin/cat";
   cmd.duration = 1.0;
   cmd.link_deadline_ms = 200;
-  CHECK(sim::run_command(cmd) == 4);
+  CHECK(apps::run_command(cmd) == 4);
   cmd.link_faults = "bytes=0.01";  // with injected faults too, a scene without any plan fails the run
-  CHECK(sim::run_command(cmd) == 4);
+  CHECK(apps::run_command(cmd) == 4);
 }

@@ -38,6 +38,18 @@ TEST_CASE("Pong encodes and decodes every field") {
   CHECK(back.tick_hz == 25000000u);
 }
 
+TEST_CASE("Diagnostics encodes and decodes both fields") {
+  Diagnostics diag{26112u, 20480u};
+  std::array<std::uint8_t, kDiagnosticsBytes> buf{};
+  REQUIRE(encode(diag, buf) == kDiagnosticsBytes);
+  Diagnostics back;
+  REQUIRE(decode(buf, back));
+  CHECK(back.stack_bytes == 26112u);
+  CHECK(back.stack_peak_bytes == 20480u);
+  std::array<std::uint8_t, kDiagnosticsBytes - 1> short_body{};
+  CHECK_FALSE(decode(short_body, back));
+}
+
 TEST_CASE("message decoders reject bodies of the wrong size") {
   std::array<std::uint8_t, 3> short_ping{};
   Ping ping;

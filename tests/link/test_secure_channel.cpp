@@ -1,10 +1,12 @@
 // The SecOC-style secure channel (itp/link/secure_channel.hpp): the
 // handshake establishes a session at both ends, sealed messages open at the
 // other end only, once, in order; everything else is refused and counted.
-// Tags are checked against an independent computation (HMAC-SHA-256 of the
-// documented byte layout, via OpenSSL).
+// Tags and key derivation are checked against an independent computation
+// (OpenSSL's AES-128-CMAC of the documented byte layouts).
 #include <doctest/doctest.h>
-#include <openssl/hmac.h>
+#include <openssl/core_names.h>
+#include <openssl/evp.h>
+#include <openssl/params.h>
 
 #include <array>
 #include <string>
@@ -22,13 +24,45 @@ std::array<std::uint8_t, kKeyBytes> key_of(std::uint8_t seed) {
   return k;
 }
 
+std::array<std::uint8_t, kEntropyBytes> entropy_of(std::uint8_t seed) {
+  std::array<std::uint8_t, kEntropyBytes> e{};
+  for (std::size_t i = 0; i < e.size(); ++i) e[i] = static_cast<std::uint8_t>(seed * 31 + i);
+  return e;
+}
+
+// Appends bytes one by one (GCC 12's -Warray-bounds misfires on vector::insert at -O3).
+template <class Range>
+void append(std::vector<std::uint8_t>& v, const Range& bytes) {
+  for (const auto b : bytes) v.push_back(static_cast<std::uint8_t>(b));
+}
+
+// OpenSSL 3's AES-128-CMAC (EVP_MAC "CMAC", cipher AES-128-CBC).
+std::array<std::uint8_t, 16> openssl_cmac(const std::uint8_t* key, const std::vector<std::uint8_t>& msg) {
+  EVP_MAC* mac = EVP_MAC_fetch(nullptr, "CMAC", nullptr);
+  REQUIRE(mac != nullptr);
+  EVP_MAC_CTX* ctx = EVP_MAC_CTX_new(mac);
+  REQUIRE(ctx != nullptr);
+  char cipher[] = "AES-128-CBC";
+  const OSSL_PARAM params[] = {OSSL_PARAM_construct_utf8_string(OSSL_MAC_PARAM_CIPHER, cipher, 0),
+                               OSSL_PARAM_construct_end()};
+  REQUIRE(EVP_MAC_init(ctx, key, 16, params) == 1);
+  REQUIRE(EVP_MAC_update(ctx, msg.data(), msg.size()) == 1);
+  std::array<std::uint8_t, 16> tag{};
+  std::size_t len = 0;
+  REQUIRE(EVP_MAC_final(ctx, tag.data(), &len, tag.size()) == 1);
+  REQUIRE(len == 16);
+  EVP_MAC_CTX_free(ctx);
+  EVP_MAC_free(mac);
+  return tag;
+}
+
 struct Pair {
   SecureChannel host{Role::kHost};
   SecureChannel fw{Role::kFirmware};
   explicit Pair(std::uint8_t key_seed = 1, std::uint8_t entropy_seed = 7) {
     host.set_key(key_of(key_seed));
     fw.set_key(key_of(key_seed));
-    fw.set_entropy(key_of(entropy_seed));
+    fw.set_entropy(entropy_of(entropy_seed));
   }
   // Runs the handshake with the given sequence numbers; true when both ends are in session.
   bool handshake(std::uint16_t open_seq = 1, std::uint16_t confirm_seq = 2) {
@@ -77,9 +111,10 @@ TEST_CASE("a handshake establishes a session, and sealed messages open at the ot
   CHECK(p.host.counters().handshakes == 1);
 }
 
-TEST_CASE("the tag is HMAC-SHA-256 of header, freshness and body under the session key, truncated to 8 bytes") {
-  // Independent check of the documented layout: with a session key computed
-  // by OpenSSL from K and both nonces, OpenSSL's HMAC gives our tag.
+TEST_CASE("the tag is AES-128-CMAC of header, freshness and body under the session key, truncated to 8 bytes") {
+  // Independent check of the documented layouts: with a session key computed
+  // by OpenSSL's CMAC from K and both nonces (SP 800-108 counter mode),
+  // OpenSSL's CMAC gives our tag.
   Pair p;
   std::array<std::uint8_t, kNonceBytes> nh{};
   nh.fill(0x42);
@@ -94,24 +129,39 @@ TEST_CASE("the tag is HMAC-SHA-256 of header, freshness and body under the sessi
   REQUIRE(p.host.open(MessageType::kSessionAccept, 2, accept, none) == AuthStatus::kOk);
   const auto k = key_of(1);
   const std::string label = "itplan-link-v2 h2f";
-  std::vector<std::uint8_t> kdf(label.begin(), label.end());
-  kdf.insert(kdf.end(), challenge.begin(), challenge.begin() + 2 * kNonceBytes);  // Nh | Nf
-  unsigned char k_h2f[32];
-  unsigned int len = 0;
-  HMAC(EVP_sha256(), k.data(), static_cast<int>(k.size()), kdf.data(), kdf.size(), k_h2f, &len);
+  std::vector<std::uint8_t> kdf{0x01};  // counter i = 1
+  append(kdf, label);
+  kdf.push_back(0x00);
+  append(kdf, std::span<const std::uint8_t>(challenge.data(), 2 * kNonceBytes));  // Nh | Nf
+  append(kdf, std::array<std::uint8_t, 2>{0x00, 0x80});  // L = 128 bits, big endian
+  const auto k_h2f = openssl_cmac(k.data(), kdf);
   const std::vector<std::uint8_t> body{9, 8, 7};
   const auto msg = seal(p.host, MessageType::kPlanRequest, 0x1234, body);
   std::vector<std::uint8_t> mac_input{kProtocolVersion, 0x20, 0x34, 0x12, static_cast<std::uint8_t>(msg.size()), 0};
-  mac_input.insert(mac_input.end(), msg.begin(), msg.end() - static_cast<long>(kTagBytes));
-  unsigned char tag[32];
-  HMAC(EVP_sha256(), k_h2f, 32, mac_input.data(), mac_input.size(), tag, &len);
-  CHECK(std::equal(msg.end() - static_cast<long>(kTagBytes), msg.end(), tag));
+  append(mac_input, std::span<const std::uint8_t>(msg.data(), msg.size() - kTagBytes));
+  auto tag = openssl_cmac(k_h2f.data(), mac_input);
+  CHECK(std::equal(msg.end() - static_cast<long>(kTagBytes), msg.end(), tag.begin()));
   CHECK(msg[0] == 1);  // the first freshness value of the session, little endian
-  // The challenge tag: HMAC(K, header of the Challenge (type 0x31, seq 1, length 40) | Nh | Nf).
+  // The challenge tag: CMAC(K, header of the Challenge (type 0x31, seq 1, length 40) | Nh | Nf).
   std::vector<std::uint8_t> ch_input{kProtocolVersion, 0x31, 1, 0, kHandshakeBytes, 0};
-  ch_input.insert(ch_input.end(), challenge.begin(), challenge.begin() + 2 * kNonceBytes);
-  HMAC(EVP_sha256(), k.data(), 32, ch_input.data(), ch_input.size(), tag, &len);
-  CHECK(std::equal(challenge.begin() + 2 * kNonceBytes, challenge.end(), tag));
+  append(ch_input, std::span<const std::uint8_t>(challenge.data(), 2 * kNonceBytes));
+  tag = openssl_cmac(k.data(), ch_input);
+  CHECK(std::equal(challenge.begin() + 2 * kNonceBytes, challenge.end(), tag.begin()));
+  // The firmware's nonce: the same PRF, label "itplan-link-v2 nonce", context
+  // boot entropy | n (u64 LE, the first nonce of this boot: n = 1).
+  const std::string nonce_label = "itplan-link-v2 nonce";
+  std::vector<std::uint8_t> nonce_input{0x01};
+  append(nonce_input, nonce_label);
+  nonce_input.push_back(0x00);
+  const auto e = entropy_of(7);
+  append(nonce_input, e);
+  append(nonce_input, std::array<std::uint8_t, 10>{1, 0, 0, 0, 0, 0, 0, 0, 0x00, 0x80});
+  const auto nf = openssl_cmac(k.data(), nonce_input);
+  CHECK(std::equal(challenge.begin() + kNonceBytes, challenge.begin() + 2 * kNonceBytes, nf.begin()));
+  // Keys of another length are no key.
+  SecureChannel long_key(Role::kHost);
+  long_key.set_key(std::vector<std::uint8_t>(32, 1));
+  CHECK_FALSE(long_key.has_key());
 }
 
 TEST_CASE("replays, reorderings, other sessions, reflections and wrong keys are refused") {
@@ -175,7 +225,7 @@ TEST_CASE("a replayed or forged handshake cannot establish a session") {
   CHECK_FALSE(f.fw.in_session());
   SecureChannel fresh(Role::kFirmware);
   fresh.set_key(key_of(1));
-  fresh.set_entropy(key_of(7));
+  fresh.set_entropy(entropy_of(7));
   CHECK(fresh.confirm(2, confirm) == AuthStatus::kHandshakeRefused);
   // A host does not answer a challenge for a nonce it did not send.
   SecureChannel other_host(Role::kHost);
@@ -190,7 +240,7 @@ TEST_CASE("without key, entropy or session nothing is accepted") {
   CHECK(fw.challenge(1, nh, out) == AuthStatus::kNoKey);
   fw.set_key(key_of(1));
   CHECK(fw.challenge(1, nh, out) == AuthStatus::kNoKey);  // no entropy: nonces could repeat
-  fw.set_entropy(key_of(3));
+  fw.set_entropy(entropy_of(3));
   CHECK(fw.challenge(1, nh, out) == AuthStatus::kOk);
   std::vector<std::uint8_t> msg(kSecuredOverhead + 4, 0);
   CHECK(open(fw, MessageType::kPlanRequest, 1, msg) == AuthStatus::kNoSession);

@@ -262,6 +262,51 @@ TEST_CASE("safe stop: brakes at the vehicle's limit when comfortable braking wou
   CHECK_FALSE(first_collision<Cfg>(s, {}, *out).found());
 }
 
+TEST_CASE("safe stop: along a curved last plan it brakes hard enough to keep lat_acc_max") {
+  // The last ok plan: 10 m straight, then an arc of R = 15 m, planned at 6 m/s.
+  // The ego is on it at 11 m/s: comfortable braking (3 m/s^2) reaches the arc
+  // at v^2 = 61, 4.1 m/s^2 across; 4 m/s^2 reaches it at v^2 = 41, 2.7 m/s^2.
+  auto previous = std::make_unique<BasicPlan<Cfg>>();
+  for (int k = 0; k < Cfg::kTrajectorySamples; ++k) {
+    TrajectoryPoint p;
+    p.t = 0.1 * k;
+    p.s = 6 * p.t;
+    p.v = 6;
+    if (p.s <= 10) {
+      p.x = p.s;
+    } else {
+      const double th = (p.s - 10) / 15;
+      p.x = 10 + 15 * std::sin(th);
+      p.y = 15 * (1 - std::cos(th));
+      p.heading = th;
+      p.kappa = 1.0 / 15;
+    }
+    REQUIRE(previous->trajectory.push_back(p));
+  }
+  Scene s = road_scene(1, 0);
+  s.ego.state.v = 11;
+  s.ego.limits.lat_acc_max = 3;
+  s.ego.limits.a_min = -6;
+  Fitted f(s);
+  BasicSafeStopInput<Cfg> in;
+  in.scene = &s;
+  in.reference = f.line.get();
+  in.previous = previous.get();
+  in.previous_time = 0;
+  in.now = 0.2;
+  in.comfort_decel = -3;
+  FallbackMemory memory;
+  auto out = std::make_unique<BasicPlan<Cfg>>();
+  safe_stop(in, FallbackReason::kPathQpFailed, memory, *out);
+  CHECK(out->trajectory[1].a == doctest::Approx(-4));
+  double worst = 0;
+  for (const TrajectoryPoint& p : out->trajectory) {
+    worst = std::max(worst, p.v * p.v * std::fabs(p.kappa));
+  }
+  CHECK(worst <= 3.0);
+  CHECK(out->trajectory.back().y > 0.5);  // it followed the arc (0.86 m), not the reference
+}
+
 TEST_CASE("safe stop: invalid input stops in place from a standstill, whatever it was sent") {
   auto out = std::make_unique<BasicPlan<Cfg>>();
   out->status = itp::PlanStatus::kInvalidInput;

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "heap_guard.hpp"
+#include "default_qp_shapes.hpp"
 #include "planner_qps.hpp"
 #include "qp_test_util.hpp"
 
@@ -53,7 +54,7 @@ void solve_checked(Instance<D>& in, double kkt_tol) {
 }  // namespace
 
 TEST_CASE("path QP: corridor pinch around an obstacle, double and float") {
-  auto d = std::make_unique<Instance<PathQpDims<double>>>();
+  auto d = std::make_unique<Instance<PathQp<double>>>();
   planner_qps::PathScenario sc;
   REQUIRE(planner_qps::build_path_qp(d->problem, sc));
   CHECK(d->problem.n == 63);
@@ -67,14 +68,14 @@ TEST_CASE("path QP: corridor pinch around an obstacle, double and float") {
   const auto& x = d->result.x;
   CHECK(x[3 * 9] + 0.2 * x[3 * 9 + 1] >= 2.45 - 1e-6);
 
-  auto f = std::make_unique<Instance<PathQpDims<float>>>();
+  auto f = std::make_unique<Instance<PathQp<float>>>();
   REQUIRE(planner_qps::build_path_qp(f->problem, sc));
   solve_checked(*f, 1e-3);
   for (int j = 0; j < 63; ++j) CHECK(f->result.x[j] == doctest::Approx(x[j]).epsilon(2e-2).scale(1.0));
 }
 
 TEST_CASE("path QP: an impossible swerve is infeasible") {
-  auto d = std::make_unique<Instance<PathQpDims<double>>>();
+  auto d = std::make_unique<Instance<PathQp<double>>>();
   planner_qps::PathScenario sc;
   sc.obstacle_s0 = 4.0;  // 3.25 m to the left within 4 m with |l''| <= 0.1
   REQUIRE(planner_qps::build_path_qp(d->problem, sc));
@@ -83,41 +84,41 @@ TEST_CASE("path QP: an impossible swerve is infeasible") {
 }
 
 TEST_CASE("speed QP: following a slower vehicle") {
-  auto d = std::make_unique<Instance<SpeedQpDims<double>>>();
+  auto d = std::make_unique<Instance<SpeedQp<double>>>();
   planner_qps::SpeedScenario sc;
   REQUIRE(planner_qps::build_speed_qp(d->problem, sc));
   CHECK(d->problem.n == 45);
   CHECK(d->problem.m == 210);
   solve_checked(*d, 1e-6);
   CHECK(active_rows(d->result) >= 3);
-  auto f = std::make_unique<Instance<SpeedQpDims<float>>>();
+  auto f = std::make_unique<Instance<SpeedQp<float>>>();
   REQUIRE(planner_qps::build_speed_qp(f->problem, sc));
   solve_checked(*f, 1e-3);
 }
 
 TEST_CASE("coarse decision QP") {
-  auto d = std::make_unique<Instance<CoarseQpDims<double>>>();
+  auto d = std::make_unique<Instance<CoarseQp<double>>>();
   planner_qps::CoarseScenario sc;
   REQUIRE(planner_qps::build_coarse_qp(d->problem, sc));
   CHECK(d->problem.n == 40);
   solve_checked(*d, 1e-8);
   CHECK(d->result.working_set.size >= 4);
-  auto f = std::make_unique<Instance<CoarseQpDims<float>>>();
+  auto f = std::make_unique<Instance<CoarseQp<float>>>();
   REQUIRE(planner_qps::build_coarse_qp(f->problem, sc));
   solve_checked(*f, 1e-3);
 }
 
 TEST_CASE("workspace sizes of the planner instances (recorded in docs/qp.md)") {
   std::printf("sizeof QpWorkspace/QpProblem/QpResult (double): path %zu/%zu/%zu speed %zu/%zu/%zu coarse %zu/%zu/%zu\n",
-              sizeof(QpWorkspace<PathQpDims<double>>), sizeof(QpProblem<PathQpDims<double>>),
-              sizeof(QpResult<PathQpDims<double>>), sizeof(QpWorkspace<SpeedQpDims<double>>),
-              sizeof(QpProblem<SpeedQpDims<double>>), sizeof(QpResult<SpeedQpDims<double>>),
-              sizeof(QpWorkspace<CoarseQpDims<double>>), sizeof(QpProblem<CoarseQpDims<double>>),
-              sizeof(QpResult<CoarseQpDims<double>>));
+              sizeof(QpWorkspace<PathQp<double>>), sizeof(QpProblem<PathQp<double>>),
+              sizeof(QpResult<PathQp<double>>), sizeof(QpWorkspace<SpeedQp<double>>),
+              sizeof(QpProblem<SpeedQp<double>>), sizeof(QpResult<SpeedQp<double>>),
+              sizeof(QpWorkspace<CoarseQp<double>>), sizeof(QpProblem<CoarseQp<double>>),
+              sizeof(QpResult<CoarseQp<double>>));
   std::printf("sizeof QpWorkspace (float): path %zu speed %zu coarse %zu\n",
-              sizeof(QpWorkspace<PathQpDims<float>>), sizeof(QpWorkspace<SpeedQpDims<float>>),
-              sizeof(QpWorkspace<CoarseQpDims<float>>));
-  static_assert(sizeof(QpWorkspace<PathQpDims<double>>) < 64 * 1024,
+              sizeof(QpWorkspace<PathQp<float>>), sizeof(QpWorkspace<SpeedQp<float>>),
+              sizeof(QpWorkspace<CoarseQp<float>>));
+  static_assert(sizeof(QpWorkspace<PathQp<double>>) < 64 * 1024,
                 "path QP workspace budget: 64 KiB");
-  CHECK(sizeof(QpWorkspace<PathQpDims<float>>) < sizeof(QpWorkspace<PathQpDims<double>>));
+  CHECK(sizeof(QpWorkspace<PathQp<float>>) < sizeof(QpWorkspace<PathQp<double>>));
 }

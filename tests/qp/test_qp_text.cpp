@@ -13,8 +13,8 @@ using namespace itp::qp;
 using hil::formats::QpText;
 
 TEST_CASE("qp-text/1 round trip of the path QP is exact") {
-  auto p = std::make_unique<QpProblem<PathQpDims<double>>>();
-  auto q = std::make_unique<QpProblem<PathQpDims<double>>>();
+  auto p = std::make_unique<QpProblem<PathQpDims<double, itp::DefaultConfig>>>();
+  auto q = std::make_unique<QpProblem<PathQpDims<double, itp::DefaultConfig>>>();
   REQUIRE(planner_qps::build_path_qp(*p, planner_qps::PathScenario{}));
   QpText text = hil::formats::from_problem(*p);
   text.obj_ref = 1.25;

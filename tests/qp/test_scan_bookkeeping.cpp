@@ -139,11 +139,11 @@ void path_sequence() {
 }  // namespace
 
 TEST_CASE("scan bookkeeping: row certificates bound the from-scratch slack, path QP, double") {
-  path_sequence<PathQpDims<double>>();
+  path_sequence<PathQpDims<double, itp::DefaultConfig>>();
 }
 
 TEST_CASE("scan bookkeeping: row certificates bound the from-scratch slack, path QP, float") {
-  path_sequence<PathQpDims<float>>();
+  path_sequence<PathQpDims<float, itp::DefaultConfig>>();
 }
 
 TEST_CASE("scan bookkeeping: random constructed QPs (scattered and clustered rows)") {
@@ -175,7 +175,7 @@ TEST_CASE("scan bookkeeping: the skipping scan selects what a full scan selects"
   // Determinism across workspaces with different histories: a workspace that
   // solved other QPs first (stale certificates from another problem) gives
   // bit-identical results to a fresh one.
-  using D = PathQpDims<double>;
+  using D = PathQpDims<double, itp::DefaultConfig>;
   auto a = std::make_unique<Instance<D>>();
   auto b = std::make_unique<Instance<D>>();
   planner_qps::PathScenario sc;

@@ -13,7 +13,7 @@ using namespace itp::qp;
 
 namespace {
 
-using PathD = PathQpDims<double>;
+using PathD = PathQpDims<double, itp::DefaultConfig>;
 using BigD = QpDims<double, 80, 160, 6, 4>;
 
 template <class D>

@@ -10,7 +10,9 @@
 
 #include "sim/closed_loop.hpp"
 #include "sim/inproc_endpoint.hpp"
+#include "sim/scene_plots.hpp"
 #include "sim/scene_generator.hpp"
+#include "sim/summary_table.hpp"
 
 using namespace hil::sim;
 

@@ -28,13 +28,13 @@ StepSample step(double t, double ego_x, double obstacle_x) {
 TEST_CASE("metrics: collisions, clearance, departures, fallbacks, comfort, plan consistency") {
   SceneMetrics m("paper-0001", {"road:straight"});
   StepSample a = step(0.0, 0.0, 10.0);  // gap 10 - 2 - 2.4 = 5.6
-  a.status = PlanStatus::kOk;
+  a.status = itp::PlanStatus::kOk;
   a.iterations = 3;
   a.cycle_time_us = 400.0;
   a.a_lon = 1.0;
   m.add_step(a);
   StepSample b = step(0.1, 5.0, 8.0);  // overlapping
-  b.status = PlanStatus::kFallback;
+  b.status = itp::PlanStatus::kFallback;
   b.reason = "no_feasible_decision";
   b.iterations = 5;
   b.cycle_time_us = 900.0;
@@ -43,7 +43,7 @@ TEST_CASE("metrics: collisions, clearance, departures, fallbacks, comfort, plan 
   b.road_margin = -0.2;
   m.add_step(b);
   StepSample c = step(0.2, 6.0, 20.0);
-  c.status = PlanStatus::kInvalidInput;
+  c.status = itp::PlanStatus::kInvalidInput;
   c.reason = "reference_line_too_short";
   m.add_step(c);
   m.add_link_error();
@@ -122,7 +122,7 @@ TEST_CASE("report/1: every required key, null for what the target cannot measure
   for (int k = 0; k < 2; ++k) {
     SceneMetrics m(fmt::format("paper-{:04d}", k));
     StepSample x = step(0.0, 0.0, 10.0);
-    x.status = PlanStatus::kOk;
+    x.status = itp::PlanStatus::kOk;
     x.iterations = 2 + k;
     x.instructions = 2.0e6 * (k + 1);  // qemu: instructions, no host clock
     m.add_step(x);

@@ -131,7 +131,8 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
       z.l_max = gap_hi;
       z.right_box = cursor_box;
       z.left_box = gap_hi_box;
-      static_cast<void>(out.zones.push_back(z));  // capacity = slices x zones per slice
+      // zone_count < kMaxZonesPerSlice per slice, slices <= kMaxSlices: kMaxZones = capacity.
+      static_cast<void>(out.zones.push_back(z));
       ++slice.zone_count;
     }
     if (!last && blocked[static_cast<std::size_t>(i)].hi > cursor) {
@@ -139,6 +140,7 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
       cursor_box = blocked[static_cast<std::size_t>(i)].box;
     }
   }
+  // One per cut interval: n_cuts - 1 <= kMaxCuts - 1 = kMaxSlices = capacity.
   static_cast<void>(out.slices.push_back(slice));
 }
 

@@ -33,7 +33,8 @@ void offer(BasicDecisionSet<Cfg>& out, const BasicDecision<Cfg>& d) {
   if (kept.full()) {
     kept.pop_back();
   }
-  static_cast<void>(kept.push_back(d));  // not full: popped above when it was
+  // Not full: popped above when it was (kKeptDecisions = capacity).
+  static_cast<void>(kept.push_back(d));
   for (std::size_t i = kept.size() - 1; i > 0; --i) {  // < kKeptDecisions
     if (!(kept[i].geometric_cost < kept[i - 1].geometric_cost)) {
       break;
@@ -80,7 +81,8 @@ void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeig
         // Leaf: close the centre line to the zone's end and record the decision.
         BasicDecision<Cfg> d;
         for (int i = 0; i <= depth; ++i) {  // <= kMaxSlices
-          static_cast<void>(d.zones.push_back(stack[static_cast<std::size_t>(i)].zone));  // depth < kMaxSlices
+          // d is fresh; depth + 1 <= kMaxSlices (stack size) = capacity.
+          static_cast<void>(d.zones.push_back(stack[static_cast<std::size_t>(i)].zone));
         }
         const Scalar ds = z.s_end - f.s_anchor;
         const Scalar dl = mid(z.l_min, z.l_max) - f.l_anchor;

@@ -185,6 +185,7 @@ void select_road_cuts(BasicRoadSl<Cfg>& road, Scalar s0, Scalar s1, Scalar toler
     static_cast<void>(b);
   }
   for (int e = 1; e + 1 < edges; ++e) {  // <= kMaxRoadCuts
+    // Cleared above; interior edges = edges - 2 <= kMaxRoadCuts = capacity.
     static_cast<void>(road.cuts.push_back(s[static_cast<std::size_t>(edge[static_cast<std::size_t>(e)])]));
   }
 }

@@ -29,6 +29,23 @@ FirmwareCounters get_counters(ByteReader& r) {
 
 std::size_t finish(const ByteWriter& w) { return w.ok() ? w.size() : 0; }
 
+// ErrorReply and AuthErrorReply: a one-byte code, then the request's type.
+template <class Reply>
+std::size_t encode_code_reply(const Reply& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u8(static_cast<std::uint8_t>(msg.code));
+  w.u8(msg.request_type);
+  return finish(w);
+}
+
+template <class Reply>
+bool decode_code_reply(std::span<const std::uint8_t> in, Reply& msg) {
+  ByteReader r(in);
+  msg.code = static_cast<decltype(msg.code)>(r.u8());
+  msg.request_type = r.u8();
+  return r.done();
+}
+
 }  // namespace
 
 std::size_t encode(const Ping& msg, std::span<std::uint8_t> out) {
@@ -50,25 +67,22 @@ std::size_t encode(const Pong& msg, std::span<std::uint8_t> out) {
   return finish(w);
 }
 
-std::size_t encode(const ErrorReply& msg, std::span<std::uint8_t> out) {
-  ByteWriter w(out);
-  w.u8(static_cast<std::uint8_t>(msg.code));
-  w.u8(msg.request_type);
-  return finish(w);
-}
+std::size_t encode(const ErrorReply& msg, std::span<std::uint8_t> out) { return encode_code_reply(msg, out); }
 
-std::size_t encode(const AuthErrorReply& msg, std::span<std::uint8_t> out) {
-  ByteWriter w(out);
-  w.u8(static_cast<std::uint8_t>(msg.code));
-  w.u8(msg.request_type);
-  return finish(w);
-}
+std::size_t encode(const AuthErrorReply& msg, std::span<std::uint8_t> out) { return encode_code_reply(msg, out); }
 
 std::size_t encode(const SegmentReport& msg, std::span<std::uint8_t> out) {
   ByteWriter w(out);
   w.u8(msg.type);
   w.u16(msg.sequence);
   w.bytes(msg.segments.bytes());
+  return finish(w);
+}
+
+std::size_t encode(const Diagnostics& msg, std::span<std::uint8_t> out) {
+  ByteWriter w(out);
+  w.u32(msg.stack_bytes);
+  w.u32(msg.stack_peak_bytes);
   return finish(w);
 }
 
@@ -92,19 +106,9 @@ bool decode(std::span<const std::uint8_t> in, Pong& msg) {
   return r.done() && msg.build_id.back() == '\0';
 }
 
-bool decode(std::span<const std::uint8_t> in, ErrorReply& msg) {
-  ByteReader r(in);
-  msg.code = static_cast<ErrorCode>(r.u8());
-  msg.request_type = r.u8();
-  return r.done();
-}
+bool decode(std::span<const std::uint8_t> in, ErrorReply& msg) { return decode_code_reply(in, msg); }
 
-bool decode(std::span<const std::uint8_t> in, AuthErrorReply& msg) {
-  ByteReader r(in);
-  msg.code = static_cast<AuthStatus>(r.u8());
-  msg.request_type = r.u8();
-  return r.done();
-}
+bool decode(std::span<const std::uint8_t> in, AuthErrorReply& msg) { return decode_code_reply(in, msg); }
 
 bool decode(std::span<const std::uint8_t> in, SegmentReport& msg) {
   ByteReader r(in);
@@ -113,6 +117,13 @@ bool decode(std::span<const std::uint8_t> in, SegmentReport& msg) {
   for (std::uint8_t& b : msg.segments.bytes()) {  // SegmentSet::kBytes
     b = r.u8();
   }
+  return r.done();
+}
+
+bool decode(std::span<const std::uint8_t> in, Diagnostics& msg) {
+  ByteReader r(in);
+  msg.stack_bytes = r.u32();
+  msg.stack_peak_bytes = r.u32();
   return r.done();
 }
 

@@ -37,6 +37,7 @@ bool get_boundary(ByteReader& r, scene::BasicBoundary<Cfg>& b) {
     scene::BoundaryPoint p;
     p.s = s(r.f32());
     p.l = s(r.f32());
+    // Cleared above; n <= kMaxBoundaryPoints = capacity (checked).
     static_cast<void>(b.table.push_back(p));
   }
   return r.ok();
@@ -111,7 +112,7 @@ std::size_t encode_scene(const SceneHeader& h, const scene::BasicScene<Cfg>& sc,
 template <class Cfg>
 bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::BasicScene<Cfg>& sc) {
   ByteReader r(in);
-  sc = scene::BasicScene<Cfg>{};
+  sc.reset();  // in place: a temporary scene would put ~20 KB on the stack
   h.cycle = r.u32();
   h.now = r.f64();
   h.reset = (r.u8() & kResetFlag) != 0u;
@@ -126,6 +127,7 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
   for (int i = 0; i < n_ref; ++i) {  // <= kMaxReferencePoints
     const float x = r.f32();
     const float y = r.f32();
+    // Scene reset above; n_ref <= kMaxReferencePoints = capacity (checked).
     static_cast<void>(sc.reference_line.push_back(geometry::Point2{ax(x), ay(y)}));
   }
   sc.road.lane_width = s(r.f32());
@@ -155,6 +157,7 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
     o.heading = s(r.f32());
     o.length = s(r.f32());
     o.width = s(r.f32());
+    // Scene reset above; n_static <= kMaxStaticObstacles = capacity (checked).
     static_cast<void>(sc.static_obstacles.push_back(o));
   }
   const int n_dyn = r.u8();
@@ -162,14 +165,21 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
     return false;
   }
   for (int i = 0; i < n_dyn; ++i) {  // <= kMaxDynamicObstacles
-    scene::BasicDynamicObstacle<Cfg> o;
-    o.id = r.i32();
-    o.length = s(r.f32());
-    o.width = s(r.f32());
+    const std::int32_t id = r.i32();
+    const Scalar length = s(r.f32());
+    const Scalar width = s(r.f32());
     const int n = r.u8();
     if (n > Cfg::kMaxPredictionSamples) {
       return false;
     }
+    // Filled in place: a local obstacle (3.2 KB of predictions) copied in
+    // would sit on the stack. n_dyn <= capacity, so the slot exists.
+    static_cast<void>(sc.dynamic_obstacles.resize(sc.dynamic_obstacles.size() + 1));
+    scene::BasicDynamicObstacle<Cfg>& o = sc.dynamic_obstacles.back();
+    o.id = id;
+    o.length = length;
+    o.width = width;
+    o.trajectory.clear();
     for (int k = 0; k < n; ++k) {  // <= kMaxPredictionSamples
       scene::TimedPose p;
       p.t = static_cast<Scalar>(h.now + static_cast<double>(r.f32()));
@@ -177,9 +187,9 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
       p.y = ay(r.f32());
       p.heading = s(r.f32());
       p.v = s(r.f32());
+      // Cleared above; n <= kMaxPredictionSamples = capacity (checked).
       static_cast<void>(o.trajectory.push_back(p));
     }
-    static_cast<void>(sc.dynamic_obstacles.push_back(o));
   }
   return r.done();
 }
@@ -275,6 +285,7 @@ bool decode_plan(std::span<const std::uint8_t> in, PlanHeader& h, planner::Basic
     for (Scalar* v : fields) {  // 6 fields
       *v = s(r.f32());
     }
+    // Plan reset above; n <= kTrajectorySamples = capacity (checked).
     static_cast<void>(p.trajectory.push_back(q));
   }
   const int nd = r.u8();
@@ -287,6 +298,7 @@ bool decode_plan(std::span<const std::uint8_t> in, PlanHeader& h, planner::Basic
     d.lateral = static_cast<planner::LateralSide>(r.u8());
     d.longitudinal = static_cast<speed::Longitudinal>(r.u8());
     d.dynamic = r.u8() != 0u;
+    // Plan reset above; nd <= kMaxObstacles = capacity (checked).
     static_cast<void>(p.decisions.push_back(d));
   }
   return r.done();

@@ -1,5 +1,7 @@
 #include "itp/link/secure_channel.hpp"
 
+#include "itp/crypto/constant_time.hpp"
+
 namespace itp::link {
 namespace {
 
@@ -11,7 +13,7 @@ constexpr std::uint8_t kLabelNonce[] = {'i', 't', 'p', 'l', 'a', 'n', '-', 'l', 
                                         '-', 'v', '2', ' ', 'n', 'o', 'n', 'c', 'e'};
 
 // The frame header fields a tag covers: version, type, sequence, message length.
-void mac_header(crypto::Hmac& mac, MessageType type, std::uint16_t seq, std::size_t length) {
+void mac_header(crypto::Cmac& mac, MessageType type, std::uint16_t seq, std::size_t length) {
   const std::uint8_t h[6] = {kProtocolVersion, static_cast<std::uint8_t>(type),
                              static_cast<std::uint8_t>(seq & 0xFFu), static_cast<std::uint8_t>(seq >> 8),
                              static_cast<std::uint8_t>(length & 0xFFu),
@@ -27,10 +29,41 @@ std::uint64_t read_u64(const std::uint8_t* p) {
   return v;
 }
 
+// CMAC as a PRF, NIST SP 800-108 counter mode, for one 128-bit output block:
+// CMAC(K, [i = 1]_8 | label | 0x00 | context | [L = 128]_16, big endian).
+// The context is given in two pieces (nonces, or entropy and counter).
+crypto::CmacTag prf(const crypto::CmacKey& key, std::span<const std::uint8_t> label,
+                    std::span<const std::uint8_t> context_a, std::span<const std::uint8_t> context_b) {
+  constexpr std::uint8_t kCounter = 0x01u;
+  constexpr std::uint8_t kSeparator = 0x00u;
+  constexpr std::uint8_t kOutputBits[2] = {0x00u, 0x80u};
+  crypto::Cmac mac(key);
+  mac.update(kCounter);
+  mac.update(label);
+  mac.update(kSeparator);
+  mac.update(context_a);
+  mac.update(context_b);
+  mac.update(kOutputBits);
+  return mac.finish();
+}
+
 template <std::size_t N>
 void copy_to(std::array<std::uint8_t, N>& dst, std::span<const std::uint8_t> src) {
   for (std::size_t i = 0; i < N; ++i) {  // N bytes
     dst[i] = src[i];
+  }
+}
+
+// A handshake body (Challenge and Confirm alike): Nh ‖ Nf ‖ tag.
+template <std::size_t N, std::size_t T>
+void write_handshake(std::span<std::uint8_t> out, const std::array<std::uint8_t, N>& nh,
+                     const std::array<std::uint8_t, N>& nf, const std::array<std::uint8_t, T>& tag) {
+  for (std::size_t i = 0; i < N; ++i) {  // N bytes each
+    out[i] = nh[i];
+    out[N + i] = nf[i];
+  }
+  for (std::size_t i = 0; i < T; ++i) {  // T bytes
+    out[2 * N + i] = tag[i];
   }
 }
 
@@ -53,9 +86,9 @@ void SecureChannel::set_key(std::span<const std::uint8_t> key) {
   end_session();
   has_key_ = key.size() == kKeyBytes;
   if (has_key_) {
-    long_term_.set(key);
+    long_term_.set(key.first<kKeyBytes>());
   } else {
-    long_term_.clear();
+    long_term_.wipe();
   }
 }
 
@@ -70,10 +103,10 @@ void SecureChannel::end_session() {
   session_ = false;
   handshake_ = false;
   pending_keys_ = false;
-  tx_key_.clear();
-  rx_key_.clear();
-  pending_tx_.clear();
-  pending_rx_.clear();
+  tx_key_.wipe();
+  rx_key_.wipe();
+  pending_tx_.wipe();
+  pending_rx_.wipe();
   tx_fresh_ = 0;
   rx_fresh_ = 0;
 }
@@ -101,13 +134,10 @@ std::size_t SecureChannel::seal(MessageType type, std::uint16_t seq, std::span<s
   for (std::size_t i = 0; i < kFreshnessBytes; ++i) {  // 8 bytes, little endian
     message[i] = static_cast<std::uint8_t>(fresh >> (8 * i));
   }
-  crypto::Hmac mac(tx_key_);
+  crypto::Cmac mac(tx_key_);
   mac_header(mac, type, seq, length);
   mac.update(message.first(kFreshnessBytes + body_bytes));
-  const crypto::Sha256Digest tag = mac.finish();
-  for (std::size_t i = 0; i < kTagBytes; ++i) {  // truncated tag
-    message[kFreshnessBytes + body_bytes + i] = tag[i];
-  }
+  mac.finish(message.subspan(kFreshnessBytes + body_bytes, kTagBytes));  // truncated tag
   return length;
 }
 
@@ -127,10 +157,11 @@ AuthStatus SecureChannel::open(MessageType type, std::uint16_t seq, std::span<co
     return refuse(AuthStatus::kNoSession);
   }
   const std::size_t body_bytes = message.size() - kSecuredOverhead;
-  crypto::Hmac mac(accept ? pending_rx_ : rx_key_);
+  crypto::Cmac mac(accept ? pending_rx_ : rx_key_);
   mac_header(mac, type, seq, message.size());
   mac.update(message.first(kFreshnessBytes + body_bytes));
-  const crypto::Sha256Digest tag = mac.finish();
+  Tag tag{};
+  mac.finish(tag);
   if (!crypto::equal_constant_time(std::span<const std::uint8_t>(tag.data(), kTagBytes),
                                    message.subspan(kFreshnessBytes + body_bytes, kTagBytes))) {
     return refuse(AuthStatus::kBadTag);
@@ -139,6 +170,8 @@ AuthStatus SecureChannel::open(MessageType type, std::uint16_t seq, std::span<co
   if (accept) {
     tx_key_ = pending_tx_;
     rx_key_ = pending_rx_;
+    pending_tx_.wipe();
+    pending_rx_.wipe();
     tx_fresh_ = 0;
     rx_fresh_ = 0;
     session_ = true;
@@ -157,31 +190,23 @@ AuthStatus SecureChannel::open(MessageType type, std::uint16_t seq, std::span<co
 
 SecureChannel::Tag SecureChannel::handshake_tag(MessageType type, std::uint16_t seq, const Nonce& nh,
                                                 const Nonce& nf) const {
-  crypto::Hmac mac(long_term_);
+  crypto::Cmac mac(long_term_);
   mac_header(mac, type, seq, kHandshakeBytes);
   mac.update(nh);
   mac.update(nf);
-  const crypto::Sha256Digest d = mac.finish();
   Tag t{};
-  for (std::size_t i = 0; i < kTagBytes; ++i) {  // truncated tag
-    t[i] = d[i];
-  }
+  mac.finish(t);  // truncated tag
   return t;
 }
 
-void SecureChannel::derive(const Nonce& nh, const Nonce& nf, crypto::HmacKey& tx, crypto::HmacKey& rx) const {
-  crypto::Hmac h2f(long_term_);
-  h2f.update(kLabelH2f);
-  h2f.update(nh);
-  h2f.update(nf);
-  const crypto::Sha256Digest k_h2f = h2f.finish();
-  crypto::Hmac f2h(long_term_);
-  f2h.update(kLabelF2h);
-  f2h.update(nh);
-  f2h.update(nf);
-  const crypto::Sha256Digest k_f2h = f2h.finish();
+void SecureChannel::derive(const Nonce& nh, const Nonce& nf, crypto::CmacKey& tx, crypto::CmacKey& rx) const {
+  static_assert(crypto::kCmacTagBytes == crypto::kAes128KeyBytes, "one PRF block is one session key");
+  crypto::CmacTag k_h2f = prf(long_term_, kLabelH2f, nh, nf);
+  crypto::CmacTag k_f2h = prf(long_term_, kLabelF2h, nh, nf);
   tx.set(role_ == Role::kHost ? k_h2f : k_f2h);
   rx.set(role_ == Role::kHost ? k_f2h : k_h2f);
+  crypto::secure_wipe(k_h2f.data(), k_h2f.size());
+  crypto::secure_wipe(k_f2h.data(), k_f2h.size());
 }
 
 std::size_t SecureChannel::start_handshake(std::span<const std::uint8_t> host_nonce, std::span<std::uint8_t> out) {
@@ -218,14 +243,7 @@ AuthStatus SecureChannel::answer_challenge(std::uint16_t challenge_seq, std::spa
   fw_nonce_ = nf;
   derive(nh, nf, pending_tx_, pending_rx_);
   pending_keys_ = true;
-  const Tag tag = handshake_tag(MessageType::kSessionConfirm, confirm_seq, nh, nf);
-  for (std::size_t i = 0; i < kNonceBytes; ++i) {  // 16 bytes each
-    out[i] = nh[i];
-    out[kNonceBytes + i] = nf[i];
-  }
-  for (std::size_t i = 0; i < kTagBytes; ++i) {  // 8 bytes
-    out[2 * kNonceBytes + i] = tag[i];
-  }
+  write_handshake(out, nh, nf, handshake_tag(MessageType::kSessionConfirm, confirm_seq, nh, nf));
   return AuthStatus::kOk;
 }
 
@@ -245,23 +263,11 @@ AuthStatus SecureChannel::challenge(std::uint16_t seq, std::span<const std::uint
   for (std::size_t i = 0; i < 8; ++i) {  // 8 bytes, little endian
     counter[i] = static_cast<std::uint8_t>(nonces_made_ >> (8 * i));
   }
-  crypto::Hmac gen(long_term_);
-  gen.update(kLabelNonce);
-  gen.update(entropy_);
-  gen.update(counter);
-  const crypto::Sha256Digest d = gen.finish();
-  for (std::size_t i = 0; i < kNonceBytes; ++i) {  // 16 bytes
-    fw_nonce_[i] = d[i];
-  }
+  static_assert(crypto::kCmacTagBytes == kNonceBytes, "one PRF block is one nonce");
+  fw_nonce_ = prf(long_term_, kLabelNonce, entropy_, counter);
   handshake_ = true;
-  const Tag tag = handshake_tag(MessageType::kSessionChallenge, seq, host_nonce_, fw_nonce_);
-  for (std::size_t i = 0; i < kNonceBytes; ++i) {  // 16 bytes each
-    out[i] = host_nonce_[i];
-    out[kNonceBytes + i] = fw_nonce_[i];
-  }
-  for (std::size_t i = 0; i < kTagBytes; ++i) {  // 8 bytes
-    out[2 * kNonceBytes + i] = tag[i];
-  }
+  write_handshake(out, host_nonce_, fw_nonce_,
+                  handshake_tag(MessageType::kSessionChallenge, seq, host_nonce_, fw_nonce_));
   return AuthStatus::kOk;
 }
 

@@ -142,7 +142,8 @@ bool BasicCorridorSearch<Cfg>::try_paths(BasicSlScene<Cfg>& sl, const Context& c
       break;  // budget spent: the worst case stays bounded (WCET), the caller falls back
     }
     if (chosen_ < 0 && !infeasible_.full()) {
-      static_cast<void>(infeasible_.push_back(corridor));  // not full: checked
+      // Not full: checked in the condition (kRememberedInfeasibleCorridors = capacity).
+      static_cast<void>(infeasible_.push_back(corridor));
     }
   }
   out.timing.path += ctx.ticks.ticks() - t0;

@@ -100,7 +100,8 @@ void record_decisions(const decision::BasicDecisionStage<Cfg>& stage, int chosen
     od.obstacle = b.obstacle_id;
     od.dynamic = b.dynamic;
     od.lateral = lateral_side(decision::side_of(stage.space(), d, b));
-    static_cast<void>(out.decisions.push_back(od));  // boxes <= kMaxObstacles = capacity
+    // Cleared above; boxes <= kMaxDecisionObstacles <= kMaxObstacles = capacity.
+    static_cast<void>(out.decisions.push_back(od));
   }
   for (const speed::BasicStDecision<Cfg>& sd : st_decisions) {  // <= kMaxDynamicObstacles
     bool found = false;
@@ -115,7 +116,8 @@ void record_decisions(const decision::BasicDecisionStage<Cfg>& stage, int chosen
       od.obstacle = sd.id;
       od.dynamic = true;
       od.longitudinal = sd.decision;
-      static_cast<void>(out.decisions.push_back(od));  // one entry per obstacle <= kMaxObstacles
+      // One entry per obstacle (ids unique: validation) <= kMaxObstacles = capacity.
+      static_cast<void>(out.decisions.push_back(od));
     }
   }
 }

@@ -233,6 +233,7 @@ template <class Cfg>
 void BasicIteration<Cfg>::sample_trajectory(const ReferenceLine& reference, const StartState& start,
                                             BasicPlan<Cfg>& out) const {
   constexpr Scalar kDt = BasicSlScene<Cfg>::kDt;
+  static_assert(Cfg::kStSamples == Cfg::kTrajectorySamples, "one trajectory sample per ST sample");
   out.trajectory.clear();
   for (int k = 0; k < Cfg::kStSamples; ++k) {  // kTrajectorySamples
     const Scalar t = kDt * static_cast<Scalar>(k);
@@ -254,7 +255,8 @@ void BasicIteration<Cfg>::sample_trajectory(const ReferenceLine& reference, cons
     p.kappa = c.kappa;
     p.v = c.v;
     p.a = c.a;
-    static_cast<void>(out.trajectory.push_back(p));  // kStSamples = kTrajectorySamples = capacity
+    // Cleared above; kStSamples = kTrajectorySamples (asserted above) = capacity.
+    static_cast<void>(out.trajectory.push_back(p));
   }
 }
 

@@ -9,7 +9,12 @@
 namespace itp::planner {
 namespace {
 
-constexpr Scalar kFallbackPathAge = Scalar(1);  // [s] a fallback brakes along the last ok plan this long
+// A fallback brakes along the last ok plan while that plan is this young and
+// the ego still on it (its nearest sample this close): the plan's path is
+// collision-checked and continuous with where the ego goes; switching to the
+// reference line puts a kink in the path the vehicle then has to steer.
+constexpr Scalar kFallbackPathAge = Scalar(3);        // [s]
+constexpr Scalar kFallbackPathDistance = Scalar(1);  // [m]
 
 bool finite_state(const scene::EgoState& e) {
   return std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.heading) && std::isfinite(e.v);
@@ -39,9 +44,9 @@ void pose_along(const BasicPlan<Cfg>& path, Scalar target, TrajectoryPoint& p) {
   p.l = a->l + u * (b->l - a->l);
 }
 
-// s of the trajectory sample nearest to (x, y).
+// s of the trajectory sample nearest to (x, y); `distance2` its squared distance.
 template <class Cfg>
-Scalar nearest_sample_s(const BasicPlan<Cfg>& path, Scalar x, Scalar y) {
+Scalar nearest_sample_s(const BasicPlan<Cfg>& path, Scalar x, Scalar y, Scalar& distance2) {
   Scalar s_begin = 0;
   Scalar best = -1;
   for (const TrajectoryPoint& q : path.trajectory) {  // kTrajectorySamples
@@ -53,7 +58,18 @@ Scalar nearest_sample_s(const BasicPlan<Cfg>& path, Scalar x, Scalar y) {
       s_begin = q.s;
     }
   }
+  distance2 = best;
   return s_begin;
+}
+
+// Largest v^2 |kappa| over a trajectory [m/s^2].
+template <class Cfg>
+Scalar max_lateral_acceleration(const BasicPlan<Cfg>& plan) {
+  Scalar worst = 0;
+  for (const TrajectoryPoint& p : plan.trajectory) {  // kTrajectorySamples
+    worst = max_of(worst, p.v * p.v * std::fabs(p.kappa));
+  }
+  return worst;
 }
 
 // The previous plan's sample at time `age` after its start (linear between
@@ -111,7 +127,8 @@ void stop_from_last_valid_state(const BasicSafeStopInput<Cfg>& in, Scalar comfor
     if (recent) {
       pose_along(*in.previous, start.s + d, p);
     }
-    static_cast<void>(out.trajectory.push_back(p));  // kSamples = capacity
+    // The caller cleared it; kSamples = kTrajectorySamples = capacity.
+    static_cast<void>(out.trajectory.push_back(p));
   }
 }
 
@@ -135,8 +152,15 @@ void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, Fallbac
   const bool have_state = scene != nullptr && finite_state(scene->ego.state);
   const Scalar v0 = have_state ? max_of(scene->ego.state.v, Scalar(0)) : Scalar(0);
   const Scalar age = in.now - in.previous_time;
-  const bool on_previous = in.previous != nullptr && in.previous->trajectory.size() > 1 && age >= 0 &&
-                           age < kFallbackPathAge && have_state;
+  // Where the ego is on the previous plan: its nearest sample.
+  Scalar previous_distance2 = -1;
+  const bool have_previous = in.previous != nullptr && in.previous->trajectory.size() > 1 && age >= 0 &&
+                             age < kFallbackPathAge && have_state;
+  const Scalar s_begin = have_previous ? nearest_sample_s(*in.previous, scene->ego.state.x, scene->ego.state.y,
+                                                          previous_distance2)
+                                       : Scalar(0);
+  const bool on_previous =
+      have_previous && previous_distance2 <= kFallbackPathDistance * kFallbackPathDistance;
   const bool on_reference =
       !on_previous && have_state && in.reference != nullptr && in.reference->valid();
   geometry::FrenetPoint f = on_reference ? in.reference->to_frenet({scene->ego.state.x, scene->ego.state.y})
@@ -150,17 +174,18 @@ void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, Fallbac
     }
     f.l = memory.l;
   }
-  // Where the ego is on the previous plan: its nearest sample.
-  const Scalar s_begin =
-      on_previous ? nearest_sample_s(*in.previous, scene->ego.state.x, scene->ego.state.y) : Scalar(0);
   // Comfortable braking unless it runs into an obstacle on the way; then the
   // vehicle's hard limit (the shortest stop), unless that collides sooner
   // (e.g. with traffic closing in from behind): then comfortable after all.
+  // "Comfortable" is the gentlest of comfort_decel .. hard (4 steps) that keeps
+  // v^2 |kappa| within lat_acc_max along the path (or within what it is at the
+  // start, where braking cannot help): braking along a curved plan from a
+  // speed that plan did not expect must not exceed the tyres' share.
   const Scalar hard = have_state && scene->ego.limits.a_min < in.comfort_decel ? scene->ego.limits.a_min
                                                                               : in.comfort_decel;
-  int comfortable_hit = -1;
-  for (int attempt = 0; attempt < 3; ++attempt) {  // comfortable, hard, comfortable again
-    const Scalar decel = attempt == 1 ? hard : in.comfort_decel;  // < 0
+  const Scalar lat_max = have_state ? scene->ego.limits.lat_acc_max : Scalar(0);
+  // The stop at deceleration `decel` (< 0) along the chosen path.
+  const auto build = [&](Scalar decel) {
     out.trajectory.clear();
     for (int k = 0; k < kSamples; ++k) {  // kTrajectorySamples
       const Scalar t = kDt * static_cast<Scalar>(k);
@@ -190,8 +215,24 @@ void safe_stop(const BasicSafeStopInput<Cfg>& in, FallbackReason reason, Fallbac
         p.heading = e.heading;
         p.s = d;
       }
-      static_cast<void>(out.trajectory.push_back(p));  // kSamples = capacity
+      // Cleared above; kSamples = kTrajectorySamples = capacity.
+      static_cast<void>(out.trajectory.push_back(p));
     }
+  };
+  constexpr int kGentleSteps = 4;
+  Scalar gentle = hard;
+  for (int j = 0; j < kGentleSteps; ++j) {  // comfort_decel .. hard
+    const Scalar decel =
+        in.comfort_decel + static_cast<Scalar>(j) / static_cast<Scalar>(kGentleSteps - 1) * (hard - in.comfort_decel);
+    build(decel);
+    if (!have_state || max_lateral_acceleration(out) <= max_of(lat_max, v0 * v0 * std::fabs(out.trajectory[0].kappa))) {
+      gentle = decel;
+      break;
+    }
+  }
+  int comfortable_hit = -1;
+  for (int attempt = 0; attempt < 3; ++attempt) {  // comfortable, hard, comfortable again
+    build(attempt == 1 ? hard : gentle);
     if (!have_state || attempt == 2) {
       break;
     }

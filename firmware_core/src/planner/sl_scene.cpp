@@ -127,7 +127,8 @@ void BasicSlScene<Cfg>::project_statics(const Scene& scene, const ReferenceLine&
   statics_left_out_ = 0;
   for (std::size_t i = 0; i < count; ++i) {  // <= kMaxStaticObstacles
     if (keep[i]) {
-      static_cast<void>(boxes_.push_back(all[i]));  // at most kDecisionStatics kept
+      // Cleared above; kept <= kDecisionStatics < kMaxDecisionObstacles = capacity.
+      static_cast<void>(boxes_.push_back(all[i]));
     } else {
       ++statics_left_out_;
     }

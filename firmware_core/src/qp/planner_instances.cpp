@@ -21,12 +21,19 @@ namespace itp::qp {
 // shapes. Other configurations instantiate the solver implicitly in the
 // stages that use it (two configurations may share a QP shape, which an
 // explicit instantiation here would define twice).
-ITP_QP_INSTANTIATE(PathQpDims<double>)
-ITP_QP_INSTANTIATE(SpeedQpDims<double>)
-ITP_QP_INSTANTIATE(CoarseQpDims<double>)
-ITP_QP_INSTANTIATE(PathQpDims<float>)
-ITP_QP_INSTANTIATE(SpeedQpDims<float>)
-ITP_QP_INSTANTIATE(CoarseQpDims<float>)
+// One alias per shape: a macro argument cannot hold the template's comma.
+using PathDouble = PathQpDims<double, DefaultConfig>;
+using SpeedDouble = SpeedQpDims<double, DefaultConfig>;
+using CoarseDouble = CoarseQpDims<double, DefaultConfig>;
+using PathFloat = PathQpDims<float, DefaultConfig>;
+using SpeedFloat = SpeedQpDims<float, DefaultConfig>;
+using CoarseFloat = CoarseQpDims<float, DefaultConfig>;
+ITP_QP_INSTANTIATE(PathDouble)
+ITP_QP_INSTANTIATE(SpeedDouble)
+ITP_QP_INSTANTIATE(CoarseDouble)
+ITP_QP_INSTANTIATE(PathFloat)
+ITP_QP_INSTANTIATE(SpeedFloat)
+ITP_QP_INSTANTIATE(CoarseFloat)
 
 #undef ITP_QP_INSTANTIATE
 

@@ -285,7 +285,8 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
     if (p.conservative && d.decision == Longitudinal::kOvertake) {
       d.decision = d.behind ? Longitudinal::kIgnore : Longitudinal::kYield;
     }
-    static_cast<void>(decisions_.push_back(d));  // one per track <= kMaxDynamicObstacles = capacity
+    // Cleared above; one per track <= kMaxDynamicObstacles = capacity.
+    static_cast<void>(decisions_.push_back(d));
   }
   // Upper bounds first (yield, follow), then overtakes, each only if it is
   // consistent with them and reachable at full acceleration (s_ref); an

@@ -27,15 +27,27 @@ void log_line(const char* text);
 // must return when either arrives.
 void idle();
 
+// The stack: its size and the deepest use since reset, in bytes. A target
+// that paints its stack at start-up measures the peak from the paint; one
+// that cannot (the host) returns 0 for both ("not measured").
+std::uint32_t stack_size_bytes();
+std::uint32_t stack_peak_bytes();
+
 // False once the link is gone for good (host: the peer closed the pipe).
 bool keep_running();
+
+// Bytes of the link's long-term key: an AES-128 key (the link's MAC is
+// AES-128-CMAC, docs/protocol.md).
+inline constexpr std::size_t kLinkKeyBytes = 16;
+// Bytes of boot entropy.
+inline constexpr std::size_t kBootEntropyBytes = 32;
 
 // The link's long-term key from the platform's key slot (on a product an
 // HSM or secure storage; docs/port.md, "Key provisioning"). False when none
 // is provisioned: the firmware then refuses every secured request.
-bool link_key(std::span<std::uint8_t, 32> key);
-// 32 bytes that differ on every boot (a TRNG, or an HSM's random source).
+bool link_key(std::span<std::uint8_t, kLinkKeyBytes> key);
+// kBootEntropyBytes that differ on every boot (a TRNG, or an HSM's random source).
 // False when there are none: the firmware then refuses every handshake.
-bool boot_entropy(std::span<std::uint8_t, 32> entropy);
+bool boot_entropy(std::span<std::uint8_t, kBootEntropyBytes> entropy);
 
 }  // namespace port

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <span>
 
+#include "itp/core/stack_probe.hpp"
 #include "itp/core/tick_source.hpp"
 #include "itp/link/crc32.hpp"
 #include "itp/link/frame_decoder.hpp"
@@ -51,7 +52,7 @@ class FirmwareService {
              max_of(link::kHandshakeBytes, link::kSegmentReportBytes));
   static constexpr std::size_t kMaxReplyBytes =
       max_of(max_of(link::kMaxPlanBytes<Cfg>, Extension::kMaxReplyBytes) + link::kSecuredOverhead,
-             link::kPongBytes);
+             max_of(link::kPongBytes, link::kDiagnosticsBytes));
   static_assert(kMaxRequestBytes <= link::kMaxMessageBytes && kMaxReplyBytes <= link::kMaxMessageBytes,
                 "a message of this configuration does not fit the link");
 
@@ -70,6 +71,9 @@ class FirmwareService {
     channel_.set_key(key);
     channel_.set_entropy(entropy);
   }
+
+  // The port's stack measurement, reported in the Diagnostics reply.
+  void set_stack_probe(StackProbe probe) { stack_ = probe; }
 
   // Feeds one received byte. Replies become available through next_frame().
   void on_byte(std::uint8_t byte) {
@@ -201,6 +205,17 @@ class FirmwareService {
         stage(Type::kPong, seq, link::encode(pong, out));
         return;
       }
+      case Type::kDiagnosticsRequest: {
+        // Read-only and not authenticated, like Ping (docs/protocol.md, threat model).
+        if (!body.empty()) {
+          break;
+        }
+        link::Diagnostics diag;
+        diag.stack_bytes = stack_.size_bytes;
+        diag.stack_peak_bytes = stack_.peak();
+        stage(Type::kDiagnosticsReply, seq, link::encode(diag, out));
+        return;
+      }
       case Type::kSessionOpen: {
         const link::AuthStatus auth = channel_.challenge(seq, body, out);
         if (auth != link::AuthStatus::kOk) {
@@ -301,6 +316,7 @@ class FirmwareService {
 
   const char* build_id_ = nullptr;
   TickSource ticks_{};
+  StackProbe stack_{};
   link::FrameDecoder decoder_;                     // one segment frame
   link::Inbox<kMaxRequestBytes> inbox_;            // the request being reassembled
   link::Outbox<kMaxReplyBytes> outbox_;            // the last reply (resent on a Query)

@@ -42,6 +42,8 @@ static_assert(kMaxSegmentBytes >= 64 && kMaxSegmentBytes <= 255 * kAnswerSegment
 enum class MessageType : std::uint8_t {
   kPing = 0x01,              // host -> firmware: liveness and counters (not authenticated)
   kPong = 0x02,
+  kDiagnosticsRequest = 0x03,  // host -> firmware: stack size and painted peak (empty body; not authenticated)
+  kDiagnosticsReply = 0x04,    // firmware -> host: Diagnostics
   kQpSolveRequest = 0x10,    // host -> firmware: solve this QP (test image only)
   kQpSolveReply = 0x11,
   kPlanRequest = 0x20,       // host -> firmware: a Scene; plan one cycle

@@ -64,22 +64,32 @@ struct SegmentReport {
   SegmentSet segments{};
 };
 
+// The firmware's resource use, measured on the target (docs/memory.md). A
+// DiagnosticsRequest has an empty body.
+struct Diagnostics {
+  std::uint32_t stack_bytes = 0;       // size of the stack region; 0: not measured
+  std::uint32_t stack_peak_bytes = 0;  // deepest stack use since reset (painted stack)
+};
+
 inline constexpr std::size_t kPingBytes = 4;
 inline constexpr std::size_t kCounterWords = 6 + 8 + 4;
 inline constexpr std::size_t kPongBytes = 4 + 1 + config::kBuildIdBytes + 4 * kCounterWords + 2 * 8;
 inline constexpr std::size_t kErrorBytes = 2;
 inline constexpr std::size_t kSegmentReportBytes = 3 + SegmentSet::kBytes;
+inline constexpr std::size_t kDiagnosticsBytes = 8;
 
 std::size_t encode(const Ping& msg, std::span<std::uint8_t> out);
 std::size_t encode(const Pong& msg, std::span<std::uint8_t> out);
 std::size_t encode(const ErrorReply& msg, std::span<std::uint8_t> out);
 std::size_t encode(const AuthErrorReply& msg, std::span<std::uint8_t> out);
 std::size_t encode(const SegmentReport& msg, std::span<std::uint8_t> out);
+std::size_t encode(const Diagnostics& msg, std::span<std::uint8_t> out);
 bool decode(std::span<const std::uint8_t> in, Ping& msg);
 bool decode(std::span<const std::uint8_t> in, Pong& msg);
 bool decode(std::span<const std::uint8_t> in, ErrorReply& msg);
 bool decode(std::span<const std::uint8_t> in, AuthErrorReply& msg);
 bool decode(std::span<const std::uint8_t> in, SegmentReport& msg);
+bool decode(std::span<const std::uint8_t> in, Diagnostics& msg);
 
 // Copies `text` into a fixed NUL-padded field, truncating if needed.
 void set_build_id(Pong& msg, const char* text);

@@ -2,7 +2,7 @@
 // Authenticated, replay-proof messages in the manner of AUTOSAR SecOC
 // (docs/protocol.md, "Security"). A secured message is
 //
-//   freshness (u64 LE) | body | tag (first 8 bytes of HMAC-SHA-256)
+//   freshness (u64 LE) | body | tag (first 8 bytes of AES-128-CMAC)
 //
 // where the tag covers the frame header's version, type, sequence number and
 // message length, the freshness value and the body, under this session's key
@@ -16,24 +16,27 @@
 //   fw   -> SessionChallenge Nh | Nf | tag_K(header, Nh, Nf)
 //   host -> SessionConfirm  Nh | Nf | tag_K(header, Nh, Nf)   (another type in the header)
 //   fw   -> SessionAccept   secured with the new firmware-to-host key, empty body
-// Session keys: K_dir = HMAC(K, "itplan-link-v2 h2f" or "... f2h" | Nh | Nf).
-// The firmware's nonce is HMAC(K, "itplan-link-v2 nonce" | boot entropy | n),
-// unique per boot as long as the port's entropy is.
+// tag_K is the truncated AES-128-CMAC under K. Session keys come from CMAC as
+// a PRF in SP 800-108 counter mode (one 128-bit block, so i = 1):
+//   K_dir = CMAC(K, 0x01 | "itplan-link-v2 h2f" or "... f2h" | 0x00 | Nh | Nf | 0x0080).
+// The firmware's nonce is the same PRF with label "itplan-link-v2 nonce" and
+// context boot entropy | n (u64 LE), unique per boot as long as the port's
+// entropy is.
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
-#include "itp/crypto/hmac_sha256.hpp"
+#include "itp/crypto/aes_cmac.hpp"
 #include "itp/link/frame.hpp"
 
 namespace itp::link {
 
-inline constexpr std::size_t kKeyBytes = 32;        // long-term link key K
+inline constexpr std::size_t kKeyBytes = 16;        // long-term link key K (AES-128)
 inline constexpr std::size_t kEntropyBytes = 32;    // per-boot entropy from the port
 inline constexpr std::size_t kNonceBytes = 16;
 inline constexpr std::size_t kFreshnessBytes = 8;
-inline constexpr std::size_t kTagBytes = 8;         // truncated HMAC-SHA-256 (64 bits)
+inline constexpr std::size_t kTagBytes = 8;         // truncated AES-128-CMAC (64 bits)
 inline constexpr std::size_t kSecuredOverhead = kFreshnessBytes + kTagBytes;
 inline constexpr std::size_t kHandshakeBytes = 2 * kNonceBytes + kTagBytes;  // Challenge, Confirm
 
@@ -77,7 +80,8 @@ class SecureChannel {
  public:
   explicit SecureChannel(Role role) : role_(role) {}
 
-  // The long-term key K (kKeyBytes). Ends any session and handshake.
+  // The long-term key K (kKeyBytes; any other length: no key). Ends any
+  // session and handshake.
   void set_key(std::span<const std::uint8_t> key);
   // Firmware: entropy that differs on every boot (the port's TRNG or HSM).
   // Without it the firmware refuses every handshake (kNoKey).
@@ -123,15 +127,15 @@ class SecureChannel {
   using Tag = std::array<std::uint8_t, kTagBytes>;
 
   Tag handshake_tag(MessageType type, std::uint16_t seq, const Nonce& nh, const Nonce& nf) const;
-  void derive(const Nonce& nh, const Nonce& nf, crypto::HmacKey& tx, crypto::HmacKey& rx) const;
+  void derive(const Nonce& nh, const Nonce& nf, crypto::CmacKey& tx, crypto::CmacKey& rx) const;
   AuthStatus refuse(AuthStatus why);
 
   Role role_;
-  crypto::HmacKey long_term_;
+  crypto::CmacKey long_term_;
   bool has_key_ = false;
   // The session in force.
-  crypto::HmacKey tx_key_;
-  crypto::HmacKey rx_key_;
+  crypto::CmacKey tx_key_;
+  crypto::CmacKey rx_key_;
   std::uint64_t tx_fresh_ = 0;  // last freshness value sent
   std::uint64_t rx_fresh_ = 0;  // last freshness value accepted
   bool session_ = false;
@@ -139,8 +143,8 @@ class SecureChannel {
   Nonce host_nonce_{};
   Nonce fw_nonce_{};
   bool handshake_ = false;
-  crypto::HmacKey pending_tx_;
-  crypto::HmacKey pending_rx_;
+  crypto::CmacKey pending_tx_;
+  crypto::CmacKey pending_rx_;
   bool pending_keys_ = false;
   // Firmware nonce source.
   std::array<std::uint8_t, kEntropyBytes> entropy_{};

@@ -49,8 +49,10 @@ struct QpDims {
 };
 
 // The planner's three QP shapes (docs/qp.md and PLANNER.md), per
-// configuration Cfg (host tools and tests default to DefaultConfig); rows
-// and variables come from the configuration (itp/config.hpp).
+// configuration Cfg; rows and variables come from the configuration
+// (itp/config.hpp). No default: every user names its configuration (the
+// firmware its own, host tools and tests itp::DefaultConfig), so that a
+// shape cannot silently fall back to another build's capacities.
 // Path QP: (l, l', l'') per knot; quintic Hermite blocks couple knot i with
 // i+1, i.e. 6 consecutive variables -> half-bandwidth 5; every row touches
 // the 6 variables of its block (plus the 3 of a neighbouring knot at most).
@@ -72,13 +74,13 @@ inline constexpr int kCoarseQpBandwidth = 4;
 template <typename S, int N = 160, int M = 1200>
 using GeneralQpDims = QpDims<S, N, M, N, N - 1>;
 
-template <typename S, class Cfg = DefaultConfig>
+template <typename S, class Cfg>
 using PathQpDims =
     QpDims<S, Cfg::kPathVariables, Cfg::kPathQpRows, kPathQpRowNonzeros, kPathQpBandwidth>;
-template <typename S, class Cfg = DefaultConfig>
+template <typename S, class Cfg>
 using SpeedQpDims =
     QpDims<S, Cfg::kSpeedVariables, Cfg::kSpeedQpRows, kSpeedQpRowNonzeros, kSpeedQpBandwidth>;
-template <typename S, class Cfg = DefaultConfig>
+template <typename S, class Cfg>
 using CoarseQpDims = QpDims<S, Cfg::kCoarseQpVariables, Cfg::kCoarseQpRows, kCoarseQpRowNonzeros,
                             kCoarseQpBandwidth>;
 

@@ -34,11 +34,26 @@ struct BasicBoundary {
 
 template <class Cfg>
 struct BasicRoad {
-  Scalar lane_width = Scalar(3.5);              // [m] width of one lane
-  BasicBoundary<Cfg> left{Scalar(1.75), {}};    // [m] left edge of the drivable area (l > right)
-  BasicBoundary<Cfg> right{Scalar(-1.75), {}};  // [m] right edge of the drivable area
+  static constexpr Scalar kDefaultLaneWidth = Scalar(3.5);     // [m]
+  static constexpr Scalar kDefaultEdgeOffset = Scalar(1.75);   // [m] |l| of either edge
+  static constexpr Scalar kDefaultSpeedLimit = Scalar(13.9);   // [m/s]
+
+  Scalar lane_width = kDefaultLaneWidth;                       // [m] width of one lane
+  BasicBoundary<Cfg> left{kDefaultEdgeOffset, {}};             // [m] left edge of the drivable area (l > right)
+  BasicBoundary<Cfg> right{-kDefaultEdgeOffset, {}};           // [m] right edge of the drivable area
   Scalar target_lane_offset = Scalar(0);    // [m] l of the target lane's centre
-  Scalar speed_limit = Scalar(13.9);        // [m/s]
+  Scalar speed_limit = kDefaultSpeedLimit;  // [m/s]
+
+  // Back to a default-constructed road, in place (no temporary road).
+  void reset() {
+    lane_width = kDefaultLaneWidth;
+    left.offset = kDefaultEdgeOffset;
+    left.table.clear();
+    right.offset = -kDefaultEdgeOffset;
+    right.table.clear();
+    target_lane_offset = Scalar(0);
+    speed_limit = kDefaultSpeedLimit;
+  }
 };
 
 // Ego state at t = 0; (x, y) is the centre of the rear axle.
@@ -94,6 +109,21 @@ struct BasicScene {
   Ego ego;
   StaticVector<StaticObstacle, Cfg::kMaxStaticObstacles> static_obstacles;
   StaticVector<BasicDynamicObstacle<Cfg>, Cfg::kMaxDynamicObstacles> dynamic_obstacles;
+
+  // Back to a default-constructed scene, in place. `sc = BasicScene{}` would
+  // build the ~20 KB temporary on the stack first (the firmware's deepest
+  // stack path once did, docs/memory.md); this touches only sizes and the
+  // scalar fields. Like that assignment it leaves the vectors' storage beyond
+  // their (now zero) sizes as it was.
+  void reset() {
+    reference_line.clear();
+    road.reset();
+    ego.state = EgoState{};
+    ego.geometry = VehicleGeometry{};
+    ego.limits = VehicleLimits{};
+    static_obstacles.clear();
+    dynamic_obstacles.clear();
+  }
 };
 
 // The default configuration's types.
