@@ -137,11 +137,11 @@ struct DefaultSizes {
   // worst case is the sum of budget x worst cost per unit (`make wcet`,
   // docs/performance.md "Worst case"). A cycle whose stage runs out of one
   // falls back (FallbackReason::kBudget). Closed-loop use, seeds 1-10 x 24 000
-  // cycles without budgets (max, p99.9) beside each; cost in fallbacks +0.32-1.00 %.
+  // cycles without budgets (max, p99.9) beside each; cost in fallbacks +0.29-0.79 %.
   static constexpr int kMaxTreeNodesPerCycle = 512;        // tree nodes in all runs (max 530, p99.9 158)
   static constexpr int kMaxCoarseQpsPerCycle = 32;          // coarse QPs in all runs (max 80, p99.9 24)
   static constexpr int kMaxCoarseIterationsPerCycle = 300;  // their iterations (max 1210, p99.9 292)
-  static constexpr int kMaxPathIterationsPerCycle = 250;    // path-QP iterations (max 853, p99.9 379): failed
+  static constexpr int kMaxPathIterationsPerCycle = 270;    // path-QP iterations (max 853, p99.9 379): failed
                                                             // QPs rationed, the largest term of the bound
   static constexpr int kMaxSpeedSolvesPerCycle = 8;         // speed QPs (max 14, p99.9 8)
   static constexpr int kMaxSpeedIterationsPerCycle = 300;   // their iterations (max 498, p99.9 184)
