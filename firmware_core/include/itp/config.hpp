@@ -137,7 +137,7 @@ struct DefaultSizes {
   // worst case is the sum of budget x worst cost per unit (`make wcet`,
   // docs/performance.md "Worst case"). A cycle whose stage runs out of one
   // falls back (FallbackReason::kBudget). Closed-loop use, seeds 1-10 x 24 000
-  // cycles without budgets (max, p99.9) beside each; cost in fallbacks +0.29-0.79 %.
+  // cycles without budgets (max, p99.9) beside each; cost in fallbacks +0.27-0.79 %.
   static constexpr int kMaxTreeNodesPerCycle = 512;        // tree nodes in all runs (max 530, p99.9 158)
   static constexpr int kMaxCoarseQpsPerCycle = 32;          // coarse QPs in all runs (max 80, p99.9 24)
   static constexpr int kMaxCoarseIterationsPerCycle = 300;  // their iterations (max 1210, p99.9 292)
