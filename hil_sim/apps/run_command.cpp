@@ -41,7 +41,7 @@ void add_run_options(CLI::App& cmd, RunCommand& run) {
           ->check(CLI::ExistingFile);
   cmd.add_option("--suite", run.suite,
                  "Generated suite: default, or stress (every scene with 10 static + 5 dynamic obstacles)")
-      ->check(CLI::IsMember({"default"}))
+      ->check(CLI::IsMember({"default", "stress"}))
       ->excludes(scene_opt)
       ->capture_default_str();
   add_generator_options(cmd, run.count, run.seed);
