@@ -87,8 +87,8 @@ wcet:
 # Re-measure the costs per unit and the maxima under QEMU (-icount): the default
 # suite and the stress suite (10 static + 5 dynamic obstacles). WCET_COUNT=200
 # WCET_STRESS_COUNT=40 for the full runs (about 15 + 10 minutes, in parallel).
-WCET_COUNT ?= 60
-WCET_STRESS_COUNT ?= 30
+WCET_COUNT ?= 200
+WCET_STRESS_COUNT ?= 40
 WCET_OUT ?= build/wcet
 wcet-measure: host-release
 	mkdir -p $(WCET_OUT)
