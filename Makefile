@@ -34,7 +34,7 @@ SIM_OUT ?= build/sim
 # make fuzz FUZZ_SECONDS=600: every fuzz target for that long (tests/fuzz/run_fuzzers.sh).
 FUZZ_SECONDS ?= 60
 
-.PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean fuzz fuzz-build
+.PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean fuzz fuzz-build wcet wcet-measure
 
 help:
 	@echo "make sim    - build everything and run the simulator against the Cortex-M7 firmware under QEMU"
@@ -44,6 +44,8 @@ help:
 	@echo "make size   - ARM RAM by module (planner stages, scene, plan, link, stack), fails over the RAM budget"
 	@echo "make stack  - worst-case stack path from the call graph (-fstack-usage), fails on recursion,"
 	@echo "              dynamic frames, unresolved indirect calls or a linker-script stack below bound + margin"
+	@echo "make wcet   - the derived worst case per cycle: budgets x measured cost per unit, measured maxima"
+	@echo "make wcet-measure - measure the costs per unit under QEMU (default + stress suite, long)"
 	@echo "make fuzz   - run every libFuzzer target for FUZZ_SECONDS seconds (default 60)"
 
 deps:
@@ -76,6 +78,27 @@ fuzz: deps fuzz-build
 host-release: cortex-m7
 	cmake --preset host-release
 	cmake --build --preset host-release
+
+# The derived worst-case bound (issue 12): budgets from itp/config.hpp times the
+# costs per unit in tools/wcet_costs.json (docs/performance.md, "Worst case").
+wcet:
+	@python3 tools/wcet_table.py table
+
+# Re-measure the costs per unit and the maxima under QEMU (-icount): the default
+# suite and the stress suite (10 static + 5 dynamic obstacles). WCET_COUNT=200
+# WCET_STRESS_COUNT=40 for the full runs (about 15 + 10 minutes, in parallel).
+WCET_COUNT ?= 200
+WCET_STRESS_COUNT ?= 40
+WCET_OUT ?= build/wcet
+wcet-measure: host-release
+	mkdir -p $(WCET_OUT)
+	$(HIL_SIM) run --suite default --count $(WCET_COUNT) --seed 1 --target qemu --firmware $(FIRMWARE_ELF) \
+	  --report $(WCET_OUT)/default.json --trace $(WCET_OUT)/default.jsonl > $(WCET_OUT)/default.txt & \
+	$(HIL_SIM) run --suite stress --count $(WCET_STRESS_COUNT) --seed 1 --target qemu --firmware $(FIRMWARE_ELF) \
+	  --report $(WCET_OUT)/stress.json --trace $(WCET_OUT)/stress.jsonl > $(WCET_OUT)/stress.txt; wait
+	python3 tools/wcet_table.py measure --default $(WCET_OUT)/default.jsonl --stress $(WCET_OUT)/stress.jsonl \
+	  --note "default suite seed 1 x $(WCET_COUNT) scenes, stress suite seed 1 x $(WCET_STRESS_COUNT) scenes"
+	python3 tools/wcet_table.py table
 
 size: cortex-m7
 	@echo "== ARM size report: $(FIRMWARE_ELF) (production image)"

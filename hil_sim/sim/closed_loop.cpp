@@ -243,6 +243,7 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
         }
         sample.reason = rec.reason;
         rec.iterations = plan->iterations;
+        rec.work = plan->timing;
         for (const itp::planner::ObstacleDecision& d : plan->decisions) {
           const char side = d.lateral == itp::planner::LateralSide::kLeft    ? 'L'
                             : d.lateral == itp::planner::LateralSide::kRight ? 'R'

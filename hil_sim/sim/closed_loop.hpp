@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "itp/core/status.hpp"
+#include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
 #include "sim/metrics.hpp"
 #include "sim/planner_endpoint.hpp"
@@ -45,6 +46,9 @@ struct CycleRecord {
   int iterations = 0;
   double cycle_time_us = -1.0;     // < 0: not measured
   double instructions = -1.0;      // < 0: not measured
+  // The planner's stage timing [its ticks] and work counts (itp::planner::StageTiming),
+  // written to the trace as "work" (tools/wcet_table.py reads them).
+  std::optional<itp::planner::StageTiming> work;
   double v = 0.0;                  // [m/s] ego speed at t
   double v_plan = 0.0;             // [m/s] the plan's speed 1 s ahead (0 when no plan)
   double a_lon = 0.0;              // [m/s^2]

@@ -39,6 +39,25 @@ void write_cycle_trace(std::ostream& out, const std::string& scene, const SceneR
     }
     if (c.cycle_time_us >= 0) j["cycle_time_us"] = c.cycle_time_us;
     if (c.instructions >= 0) j["instructions"] = c.instructions;
+    if (c.work) {
+      const itp::planner::StageTiming& w = *c.work;
+      j["work"] = json{{"tick_hz", w.tick_hz},
+                       {"prepare", w.prepare},
+                       {"decision", w.decision},
+                       {"coarse", w.coarse},
+                       {"path", w.path},
+                       {"speed", w.speed},
+                       {"check", w.check},
+                       {"total", w.total},
+                       {"decision_runs", w.decision_runs},
+                       {"tree_nodes", w.tree_nodes},
+                       {"coarse_qps", w.coarse_qps},
+                       {"coarse_iterations", w.coarse_iterations},
+                       {"path_solves", w.path_solves},
+                       {"path_iterations", w.path_iterations},
+                       {"speed_solves", w.speed_solves},
+                       {"speed_iterations", w.speed_iterations}};
+    }
     out << j.dump() << '\n';
   }
 }

@@ -136,3 +136,36 @@ TEST_CASE("no zone for the ego gives no decision, never a crash") {
   CHECK(s.status == DecisionStatus::kNoDecision);
   CHECK(s.stage->best() == -1);
 }
+
+TEST_CASE("a decision run within a budget: no more coarse QPs, iterations and tree nodes than it allows") {
+  const CoarseInput in = input(0, 10);
+  const std::vector<SlBox> boxes{box(40, 45, -0.9, 0.9, 1)};
+  const std::unique_ptr<DecisionStage> stage = std::make_unique<DecisionStage>();
+  DecisionWork work;
+  {
+    test_support::HeapGuard guard;
+    // Budget for one coarse QP: the second decision stays unevaluated (not usable).
+    const DecisionStatus st = stage->run(road(-5.25, 5.25), boxes, params(0), in, DecisionWeights{},
+                                         DecisionBudget{4096, 1, 1000}, itp::TickSource{}, work);
+    CHECK(st == DecisionStatus::kOk);
+  }
+  REQUIRE(stage->decisions().kept.size() == 2);
+  CHECK(work.coarse_qps == 1);
+  CHECK(work.budget_out);
+  CHECK(itp::qp::is_usable(stage->coarse(0).status));
+  CHECK_FALSE(itp::qp::is_usable(stage->coarse(1).status));
+  CHECK(stage->best() == 0);
+  // No coarse QP left: no decision, and the run says that the budget cut it short.
+  CHECK(stage->run(road(-5.25, 5.25), boxes, params(0), in, DecisionWeights{}, DecisionBudget{4096, 0, 1000},
+                   itp::TickSource{}, work) == DecisionStatus::kNoDecision);
+  CHECK(work.coarse_qps == 0);
+  CHECK(work.budget_out);
+  // A tree-node budget caps the search.
+  stage->run(road(-5.25, 5.25), boxes, params(0), in, DecisionWeights{}, DecisionBudget{2, 20, 1000},
+             itp::TickSource{}, work);
+  CHECK(work.tree_nodes <= 2);
+  // An iteration budget caps the coarse QPs' iterations in all.
+  stage->run(road(-5.25, 5.25), boxes, params(0), in, DecisionWeights{}, DecisionBudget{4096, 20, 1},
+             itp::TickSource{}, work);
+  CHECK(work.coarse_iterations <= 1);
+}

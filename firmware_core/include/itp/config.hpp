@@ -121,7 +121,7 @@ struct DefaultSizes {
   // Iteration (paper 2) and the per-cycle budgets that bound the worst case
   static constexpr int kMaxPlannerIterations = 5;
   static constexpr int kRememberedInfeasibleCorridors = 16;  // path QPs not repeated on them
-  static constexpr int kMaxPathSolvesPerCycle = 16;          // path QP budget per cycle
+  static constexpr int kMaxPathSolvesPerCycle = 10;          // path QPs (max 16, p99.9 10)
   static constexpr int kPathQpMaxIterations = 60;            // path QP iteration cap
   // Decision-stage runs (convex space, tree, up to kKeptDecisions coarse QPs) per
   // cycle, over all iterations and their rounds (a round leaves one more moving
@@ -129,6 +129,22 @@ struct DefaultSizes {
   // (kMaxDynamicObstacles + 1) = 30. A cycle that needs more falls back (WCET
   // bound); the value's cost in fallbacks: docs/performance.md, "Worst case".
   static constexpr int kMaxDecisionRunsPerCycle = 15;
+  // Run-time iteration caps of the other QPs (the compile-time kMaxIterations,
+  // 3 (n + m), is 180 for the coarse and 765 for the speed QP: far above need).
+  static constexpr int kCoarseQpMaxIterations = 60;   // coarse QP cap (seeds 1-10: no change in outcome)
+  static constexpr int kSpeedQpMaxIterations = 120;   // speed QP cap (seeds 1-10: no change in outcome)
+  // Per-cycle budgets in the units that bound each stage's cost: the derived
+  // worst case is the sum of budget x worst cost per unit (`make wcet`,
+  // docs/performance.md "Worst case"). A cycle whose stage runs out of one
+  // falls back (FallbackReason::kBudget). Closed-loop use, seeds 1-10 x 24 000
+  // cycles without budgets (max, p99.9) beside each; cost in fallbacks +0.27-0.79 %.
+  static constexpr int kMaxTreeNodesPerCycle = 512;        // tree nodes in all runs (max 530, p99.9 158)
+  static constexpr int kMaxCoarseQpsPerCycle = 32;          // coarse QPs in all runs (max 80, p99.9 24)
+  static constexpr int kMaxCoarseIterationsPerCycle = 300;  // their iterations (max 1210, p99.9 292)
+  static constexpr int kMaxPathIterationsPerCycle = 270;    // path-QP iterations (max 853, p99.9 379): failed
+                                                            // QPs rationed, the largest term of the bound
+  static constexpr int kMaxSpeedSolvesPerCycle = 8;         // speed QPs (max 14, p99.9 8)
+  static constexpr int kMaxSpeedIterationsPerCycle = 300;   // their iterations (max 498, p99.9 184)
 
   // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
   // time in planner.cpp on every target; docs/performance.md, "Memory").
@@ -196,7 +212,11 @@ struct Configuration : Sizes {
                 "bad decision sizes");
   static_assert(kPathBlocks >= 2 && kSpeedBlocks >= 2, "at least two QP blocks");
   static_assert(Sizes::kMaxPlannerIterations >= 1 && Sizes::kMaxPathSolvesPerCycle >= 1 &&
-                    Sizes::kPathQpMaxIterations >= 1 && Sizes::kMaxDecisionRunsPerCycle >= 1,
+                    Sizes::kPathQpMaxIterations >= 1 && Sizes::kMaxDecisionRunsPerCycle >= 1 &&
+                    Sizes::kCoarseQpMaxIterations >= 1 && Sizes::kSpeedQpMaxIterations >= 1 &&
+                    Sizes::kMaxTreeNodesPerCycle >= 1 && Sizes::kMaxCoarseQpsPerCycle >= 1 &&
+                    Sizes::kMaxCoarseIterationsPerCycle >= 1 && Sizes::kMaxPathIterationsPerCycle >= 1 &&
+                    Sizes::kMaxSpeedSolvesPerCycle >= 1 && Sizes::kMaxSpeedIterationsPerCycle >= 1,
                 "budgets must allow one solve");
 };
 

@@ -201,7 +201,7 @@ void BasicCoarseEvaluator<Cfg>::score(const Decision& decision, const CoarseInpu
 template <class Cfg>
 void BasicCoarseEvaluator<Cfg>::evaluate(const ConvexSpace& space, const Decision& decision,
                                          const CoarseInput& in, const CoarseWeights& w,
-                                         CoarseResult& out) {
+                                         CoarseResult& out, int max_iterations) {
   out = CoarseResult{};
   if (decision.zones.empty() || !sample_corridor(space, decision, in, out)) {
     out.status = qp::QpStatus::kInvalidInput;
@@ -213,7 +213,7 @@ void BasicCoarseEvaluator<Cfg>::evaluate(const ConvexSpace& space, const Decisio
   }
   // H does not depend on the decision (only on the weights), so after the
   // first factorisation every solve is a hotstart: new g and bounds only.
-  const qp::QpStatus st = qp_.solve(w.qp);
+  const qp::QpStatus st = qp_.solve(w.qp, false, max_iterations);
   out.status = st;
   out.qp_iterations = qp_.result().iterations;
   if (!qp::is_usable(st)) {

@@ -19,6 +19,17 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
                                             const ConvexSpaceParams& params,
                                             const CoarseInput& input,
                                             const DecisionWeights& weights) {
+  DecisionWork work;
+  const DecisionBudget unlimited{Cfg::kMaxTreeNodes, Cfg::kKeptDecisions, Cfg::kKeptDecisions * Cfg::kCoarseQpMaxIterations};
+  return run(road, boxes, params, input, weights, unlimited, TickSource{}, work);
+}
+
+template <class Cfg>
+DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const SlBox> boxes,
+                                            const ConvexSpaceParams& params, const CoarseInput& input,
+                                            const DecisionWeights& weights, const DecisionBudget& budget,
+                                            TickSource ticks, DecisionWork& work) {
+  work = DecisionWork{};
   best_ = -1;
   set_.kept.clear();
   const ConvexSpaceStatus cs = build_convex_space(road, boxes, params, space_);
@@ -28,10 +39,23 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
   if (cs != ConvexSpaceStatus::kOk) {
     return DecisionStatus::kNoDecision;
   }
-  enumerate_decisions(space_, weights.geometric, set_);
-  // Lowest decision cost wins; ties keep the better geometric rank.
+  enumerate_decisions(space_, weights.geometric, set_, budget.tree_nodes);
+  work.tree_nodes = set_.nodes_expanded;
+  const std::uint64_t t0 = ticks.ticks();
+  // Lowest decision cost wins; ties keep the better geometric rank. Decisions
+  // beyond the budget stay unevaluated (not usable).
+  // WCET: <= kKeptDecisions; over the cycle <= kMaxCoarseQpsPerCycle QPs with
+  // kMaxCoarseIterationsPerCycle iterations in all (the budget the caller passes).
   for (std::size_t i = 0; i < set_.kept.size(); ++i) {  // <= kKeptDecisions
-    evaluator_.evaluate(space_, set_.kept[i], input, weights.coarse, coarse_[i]);
+    const int left = budget.coarse_iterations - work.coarse_iterations;
+    if (work.coarse_qps >= budget.coarse_qps || left <= 0) {
+      coarse_[i] = CoarseResult{};  // kInvalidInput: not usable
+      work.budget_out = true;
+      continue;
+    }
+    evaluator_.evaluate(space_, set_.kept[i], input, weights.coarse, coarse_[i], left);
+    ++work.coarse_qps;
+    work.coarse_iterations += coarse_[i].qp_iterations;
     if (!qp::is_usable(coarse_[i].status)) {
       continue;
     }
@@ -39,6 +63,7 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
       best_ = static_cast<int>(i);
     }
   }
+  work.coarse_ticks = ticks.ticks() - t0;
   if (best_ < 0) {
     return DecisionStatus::kNoDecision;
   }

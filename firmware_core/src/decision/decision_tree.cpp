@@ -49,7 +49,10 @@ void offer(BasicDecisionSet<Cfg>& out, const BasicDecision<Cfg>& d) {
 
 template <class Cfg>
 void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeights& w,
-                         BasicDecisionSet<Cfg>& out) {
+                         BasicDecisionSet<Cfg>& out, int max_nodes) {
+  // The node cap of this search: kMaxTreeNodes, or less (what is left of the
+  // cycle's budget). WCET: the loop below runs at most 2 kMaxTreeNodes + 2 times.
+  const int node_cap = (max_nodes > 0 && max_nodes < Cfg::kMaxTreeNodes) ? max_nodes : Cfg::kMaxTreeNodes;
   out.kept.clear();
   out.nodes_expanded = 0;
   out.complete_paths = 0;
@@ -107,7 +110,7 @@ void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeig
       continue;
     }
     f.next_bit = static_cast<std::int8_t>(bit + 1);
-    if (out.nodes_expanded >= Cfg::kMaxTreeNodes) {
+    if (out.nodes_expanded >= node_cap) {
       out.truncated = true;
       break;
     }
@@ -154,7 +157,7 @@ Side side_of(const BasicConvexSpace<Cfg>& space, const BasicDecision<Cfg>& decis
 // Explicit instantiations for every configuration (itp/configurations.hpp).
 #define ITP_INSTANTIATE(C)                                                                  \
   template void enumerate_decisions<C>(const BasicConvexSpace<C>&, const GeometricWeights&, \
-                                       BasicDecisionSet<C>&);                               \
+                                       BasicDecisionSet<C>&, int);                          \
   template Side side_of<C>(const BasicConvexSpace<C>&, const BasicDecision<C>&, const SlBox&);
 ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
 #undef ITP_INSTANTIATE

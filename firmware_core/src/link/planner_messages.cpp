@@ -212,6 +212,15 @@ std::size_t encode_plan(const PlanHeader& h, const planner::BasicPlan<Cfg>& p, s
     w.u64(v);
   }
   w.u16(static_cast<std::uint16_t>(p.timing.decision_runs));
+  // The cycle's work in the units of its budgets (docs/performance.md, "Worst case").
+  w.u64(p.timing.coarse);
+  w.u32(static_cast<std::uint32_t>(p.timing.tree_nodes));
+  w.u16(static_cast<std::uint16_t>(p.timing.coarse_qps));
+  w.u32(static_cast<std::uint32_t>(p.timing.coarse_iterations));
+  w.u16(static_cast<std::uint16_t>(p.timing.path_solves));
+  w.u32(static_cast<std::uint32_t>(p.timing.path_iterations));
+  w.u16(static_cast<std::uint16_t>(p.timing.speed_solves));
+  w.u32(static_cast<std::uint32_t>(p.timing.speed_iterations));
   w.f64(ox);
   w.f64(oy);
   w.u8(static_cast<std::uint8_t>(p.trajectory.size()));
@@ -251,6 +260,14 @@ bool decode_plan(std::span<const std::uint8_t> in, PlanHeader& h, planner::Basic
     *t = r.u64();
   }
   p.timing.decision_runs = r.u16();
+  p.timing.coarse = r.u64();
+  p.timing.tree_nodes = static_cast<int>(r.u32());
+  p.timing.coarse_qps = r.u16();
+  p.timing.coarse_iterations = static_cast<int>(r.u32());
+  p.timing.path_solves = r.u16();
+  p.timing.path_iterations = static_cast<int>(r.u32());
+  p.timing.speed_solves = r.u16();
+  p.timing.speed_iterations = static_cast<int>(r.u32());
   h.origin_x = r.f64();
   h.origin_y = r.f64();
   const double ox = h.origin_x;

@@ -156,7 +156,8 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
 
 template <class Cfg>
 void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& decision,
-                                    const PathInput& in, const PathWeights& w, PathResult& out) {
+                                    const PathInput& in, const PathWeights& w, PathResult& out,
+                                    int max_iterations) {
   out = PathResult{};
   const Scalar h = in.length / static_cast<Scalar>(Cfg::kPathBlocks);
   if (decision.zones.empty() || !(h > 0) || !std::isfinite(in.l0) || !std::isfinite(in.dl0) ||
@@ -177,7 +178,7 @@ void BasicPathOptimizer<Cfg>::solve(const ConvexSpace& space, const Decision& de
   // the corridor pinches: the next solve, usually the same corridor at the
   // steering limit, hotstarts from it instead of cold (e.g. 2 or 17-30
   // iterations where cold hit the cap of 60).
-  const qp::QpStatus st = qp_.solve(key, /*keep_factor_after_failure=*/true);
+  const qp::QpStatus st = qp_.solve(key, /*keep_factor_after_failure=*/true, max_iterations);
   out.status = st;
   out.iterations = qp_.result().iterations;
   out.s0 = in.s0;

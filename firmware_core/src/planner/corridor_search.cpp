@@ -19,7 +19,12 @@ void BasicCorridorSearch<Cfg>::begin_cycle() {
   chosen_ = -1;
   infeasible_.clear();
   path_solves_ = 0;
+  path_iterations_ = 0;
   decision_runs_ = 0;
+  tree_nodes_ = 0;
+  coarse_qps_ = 0;
+  coarse_iterations_ = 0;
+  path_budget_out_ = false;
 }
 
 template <class Cfg>
@@ -28,27 +33,38 @@ FallbackReason BasicCorridorSearch<Cfg>::run(const StSamples& s_guess, BasicSlSc
   bool skip[Cfg::kMaxDynamicObstacles] = {};
   chosen_ = -1;
   evasive_ = false;
-  FallbackReason why = FallbackReason::kNoDecision;  // why the next round is needed
+  // WCET: <= kMaxDynamicObstacles + 1 rounds per call, and over the cycle
+  // <= kMaxDecisionRunsPerCycle runs (decision_runs_, checked first).
   for (int round = 0; round <= Cfg::kMaxDynamicObstacles; ++round) {  // one more left-out obstacle per round
-    if (decision_runs_ >= Cfg::kMaxDecisionRunsPerCycle) {
-      return why;  // budget spent: the worst case stays bounded (WCET), the caller falls back
+    if (decision_budget_spent()) {
+      return FallbackReason::kBudget;  // the worst case stays bounded (WCET): the caller falls back
     }
     ++decision_runs_;
     std::uint64_t t0 = ctx.ticks.ticks();
     sl.place_dynamic(s_guess, skip);
-    const decision::DecisionStatus ds =
-        stage_.run(sl.road(), sl.boxes(), ctx.inputs->convex, ctx.inputs->coarse, ctx.settings->decision_weights);
+    const decision::DecisionBudget budget{Cfg::kMaxTreeNodesPerCycle - tree_nodes_, Cfg::kMaxCoarseQpsPerCycle - coarse_qps_,
+                                          Cfg::kMaxCoarseIterationsPerCycle - coarse_iterations_};
+    decision::DecisionWork work;
+    const decision::DecisionStatus ds = stage_.run(sl.road(), sl.boxes(), ctx.inputs->convex, ctx.inputs->coarse,
+                                                   ctx.settings->decision_weights, budget, ctx.ticks, work);
+    tree_nodes_ += work.tree_nodes;
+    coarse_qps_ += work.coarse_qps;
+    coarse_iterations_ += work.coarse_iterations;
     ++out.timing.decision_runs;
-    for (std::size_t i = 0; i < stage_.decisions().kept.size(); ++i) {  // <= kKeptDecisions
-      ++out.qp_solves;
-      out.qp_iterations += stage_.coarse(i).qp_iterations;
-    }
+    out.timing.tree_nodes += work.tree_nodes;
+    out.timing.coarse_qps += work.coarse_qps;
+    out.timing.coarse_iterations += work.coarse_iterations;
+    out.timing.coarse += work.coarse_ticks;
+    out.qp_solves += work.coarse_qps;
+    out.qp_iterations += work.coarse_iterations;
     out.timing.decision += ctx.ticks.ticks() - t0;
     if (ds == decision::DecisionStatus::kInvalidInput) {
       return FallbackReason::kNoDecision;
     }
     int drop = -1;
-    why = FallbackReason::kNoDecision;
+    if ((ds == decision::DecisionStatus::kNoDecision || stage_.best() < 0) && work.budget_out) {
+      return FallbackReason::kBudget;  // no decision evaluated within the coarse-QP budget
+    }
     if (ds == decision::DecisionStatus::kNoDecision || stage_.best() < 0) {
       drop = sl.nearest_dynamic(skip, -kEverywhere, kEverywhere);
       if (drop < 0) {
@@ -66,11 +82,13 @@ FallbackReason BasicCorridorSearch<Cfg>::run(const StSamples& s_guess, BasicSlSc
       if (try_paths(sl, ctx, path, out)) {
         return FallbackReason::kNone;
       }
+      if (path_budget_out_) {
+        return FallbackReason::kBudget;  // the worst case stays bounded (WCET): the caller falls back
+      }
       drop = sl.nearest_dynamic(skip, -kEverywhere, kEverywhere);
-      if (drop < 0 || path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
+      if (drop < 0) {
         return FallbackReason::kPathQpFailed;
       }
-      why = FallbackReason::kPathQpFailed;
     }
     skip[drop] = true;
   }
@@ -80,6 +98,10 @@ FallbackReason BasicCorridorSearch<Cfg>::run(const StSamples& s_guess, BasicSlSc
 template <class Cfg>
 bool BasicCorridorSearch<Cfg>::try_paths(BasicSlScene<Cfg>& sl, const Context& ctx, PathResult& path,
                                          BasicPlan<Cfg>& out) {
+  if (path_budget_spent()) {
+    path_budget_out_ = true;
+    return false;
+  }
   const std::uint64_t t0 = ctx.ticks.ticks();
   path::BasicPathInput<Cfg> pi = ctx.inputs->path;
   std::array<int, Cfg::kKeptDecisions> order{};
@@ -97,18 +119,26 @@ bool BasicCorridorSearch<Cfg>::try_paths(BasicSlScene<Cfg>& sl, const Context& c
     // (evasive), the safest way out, not a stop where the ego stands (in an
     // oncoming lane, say). Within the cycle's budget.
     const int levels = attempt < kEvasiveAttempts ? 3 : 2;
-    for (int relax = 0; relax < levels && chosen_ < 0 && path_solves_ < Cfg::kMaxPathSolvesPerCycle; ++relax) {
+    // WCET: <= 3 per attempt; over the cycle <= kMaxPathSolvesPerCycle solves
+    // and kMaxPathIterationsPerCycle iterations in all (path_budget_spent).
+    for (int relax = 0; relax < levels && chosen_ < 0 && !path_budget_spent(); ++relax) {
       ++path_solves_;
       pi.kappa_bound = relax == 0 ? &ctx.bounds->expected : (relax == 1 ? &ctx.bounds->reach : &ctx.bounds->evasive);
-      path_opt_.solve(stage_.space(), d, pi, ctx.settings->path_weights, path);
+      // Capped at what is left of the cycle's path-QP iterations.
+      path_opt_.solve(stage_.space(), d, pi, ctx.settings->path_weights, path,
+                      Cfg::kMaxPathIterationsPerCycle - path_iterations_);
+      path_iterations_ += path.iterations;
       ++out.qp_solves;
       out.qp_iterations += path.iterations;
+      ++out.timing.path_solves;
+      out.timing.path_iterations += path.iterations;
       if (qp::is_usable(path.status)) {
         chosen_ = index;
         evasive_ = relax == 2;
       }
     }
-    if (chosen_ < 0 && path_solves_ >= Cfg::kMaxPathSolvesPerCycle) {
+    if (chosen_ < 0 && path_budget_spent()) {
+      path_budget_out_ = true;
       break;  // budget spent: the worst case stays bounded (WCET), the caller falls back
     }
     if (chosen_ < 0 && !infeasible_.full()) {

@@ -116,7 +116,7 @@ FallbackReason BasicIteration<Cfg>::run(Context& ctx, const StartState& start, B
     }
     out.timing.speed += ctx.ticks.ticks() - t0;
     if (!qp::is_usable(speed_.status)) {
-      return FallbackReason::kSpeedQpFailed;
+      return speed_budget_out_ ? FallbackReason::kBudget : FallbackReason::kSpeedQpFailed;
     }
 
     // Check with the real footprints, and measure the change from the last step.
@@ -192,24 +192,38 @@ void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, con
   speed::BasicSpeedInput<Cfg>& si = ctx.inputs.speed;
   st_.build(path_, ctx.sl->tracks(), ctx.inputs.st, s_guess, v_guess, bounds_);
   si.a_min = bounds_.a_min;
-  speed_opt_.solve(si, bounds_, ctx.settings->speed_weights, speed_);
-  ++out.qp_solves;
-  out.qp_iterations += speed_.iterations;
-  if (!qp::is_usable(speed_.status) && st_.kept_ahead()) {
+  solve_speed(ctx, out);
+  if (!qp::is_usable(speed_.status) && !speed_budget_out_ && st_.kept_ahead()) {
     // Keeping ahead of a follower is a wish, not a constraint: without it.
     speed::BasicStParams<Cfg> without = ctx.inputs.st;
     without.keep_ahead = false;
     st_.build(path_, ctx.sl->tracks(), without, s_guess, v_guess, bounds_);
     si.a_min = bounds_.a_min;
-    speed_opt_.solve(si, bounds_, ctx.settings->speed_weights, speed_);
-    ++out.qp_solves;
-    out.qp_iterations += speed_.iterations;
+    solve_speed(ctx, out);
   }
-  if (!qp::is_usable(speed_.status) && bounds_.a_min > ctx.limits.a_min) {
+  if (!qp::is_usable(speed_.status) && !speed_budget_out_ && bounds_.a_min > ctx.limits.a_min) {
     si.a_min = ctx.limits.a_min;
-    speed_opt_.solve(si, bounds_, ctx.settings->speed_weights, speed_);
-    ++out.qp_solves;
-    out.qp_iterations += speed_.iterations;
+    solve_speed(ctx, out);
+  }
+}
+
+template <class Cfg>
+void BasicIteration<Cfg>::solve_speed(Context& ctx, BasicPlan<Cfg>& out) {
+  // WCET: <= kMaxSpeedSolvesPerCycle speed QPs (each after at most one ST
+  // graph build) with kMaxSpeedIterationsPerCycle iterations in all, per cycle.
+  const int left = Cfg::kMaxSpeedIterationsPerCycle - out.timing.speed_iterations;
+  if (out.timing.speed_solves >= Cfg::kMaxSpeedSolvesPerCycle || left <= 0) {
+    speed_ = SpeedResult{};  // kInvalidInput: not usable
+    speed_budget_out_ = true;
+    return;
+  }
+  speed_opt_.solve(ctx.inputs.speed, bounds_, ctx.settings->speed_weights, speed_, left);
+  ++out.qp_solves;
+  out.qp_iterations += speed_.iterations;
+  ++out.timing.speed_solves;
+  out.timing.speed_iterations += speed_.iterations;
+  if (!qp::is_usable(speed_.status) && speed_.iterations >= left) {
+    speed_budget_out_ = true;  // stopped by the cycle's iteration budget
   }
 }
 

@@ -26,6 +26,7 @@ const char* to_string(FallbackReason reason) {
     case FallbackReason::kCollision: return "collision";
     case FallbackReason::kHorizonTooShort: return "horizon_too_short";
     case FallbackReason::kEvasive: return "evasive";
+    case FallbackReason::kBudget: return "budget";
   }
   return "unknown";
 }

@@ -113,7 +113,7 @@ void BasicSpeedOptimizer<Cfg>::build(const SpeedInput& in, const SpeedBounds& bd
 
 template <class Cfg>
 void BasicSpeedOptimizer<Cfg>::solve(const SpeedInput& in, const SpeedBounds& bounds,
-                                     const SpeedWeights& w, SpeedResult& out) {
+                                     const SpeedWeights& w, SpeedResult& out, int max_iterations) {
   out = SpeedResult{};
   const Scalar h = in.horizon / static_cast<Scalar>(Cfg::kSpeedBlocks);
   if (!(h > 0) || !std::isfinite(in.v0) || !std::isfinite(in.a0) || !finite_bounds(bounds)) {
@@ -126,7 +126,7 @@ void BasicSpeedOptimizer<Cfg>::solve(const SpeedInput& in, const SpeedBounds& bo
   if (observer_ != nullptr && observer_->speed != nullptr) {
     observer_->speed(observer_->context, qp_.problem());
   }
-  const qp::QpStatus st = qp_.solve(key);
+  const qp::QpStatus st = qp_.solve(key, false, max_iterations);
   out.status = st;
   out.iterations = qp_.result().iterations;
   out.h = h;

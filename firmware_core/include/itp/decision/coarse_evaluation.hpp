@@ -84,8 +84,9 @@ class BasicCoarseEvaluator {
   // Forget the factorisation: the next solve is cold.
   void reset() { qp_.reset(); }
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
+  // max_iterations: the coarse QP's run-time iteration cap (<= 0: kCoarseQpMaxIterations).
   void evaluate(const ConvexSpace& space, const Decision& decision, const CoarseInput& in,
-                const CoarseWeights& w, CoarseResult& out);
+                const CoarseWeights& w, CoarseResult& out, int max_iterations = 0);
 
  private:
   static constexpr int kN = Cfg::kCoarseSamples;
@@ -98,7 +99,7 @@ class BasicCoarseEvaluator {
   using CoarseDims = qp::CoarseQpDims<Scalar, Cfg>;
   // H depends only on the QP weights: while they stay the same, every solve
   // after the first is a hotstart (new g and bounds, same factorisation).
-  qp::StageQp<CoarseDims, CoarseQpWeights> qp_{};
+  qp::StageQp<CoarseDims, CoarseQpWeights> qp_{qp::QpSettings<Scalar>{.max_iterations = Cfg::kCoarseQpMaxIterations}};
   const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 
+#include "itp/core/tick_source.hpp"
 #include "itp/decision/coarse_evaluation.hpp"
 #include "itp/decision/convex_space.hpp"
 #include "itp/decision/decision_tree.hpp"
@@ -20,6 +21,23 @@ enum class DecisionStatus : std::uint8_t {
 };
 
 const char* to_string(DecisionStatus status);
+
+// What one run may spend (what is left of the cycle's budgets) and what it
+// spent. A run with too little left searches fewer nodes and evaluates fewer
+// decisions; budget_out says that a cap cut it short.
+struct DecisionBudget {
+  int tree_nodes = 0;         // at most this many nodes (<= 0 or > kMaxTreeNodes: kMaxTreeNodes)
+  int coarse_qps = 0;         // coarse QPs, at most
+  int coarse_iterations = 0;  // their iterations, at most
+};
+
+struct DecisionWork {
+  int tree_nodes = 0;
+  int coarse_qps = 0;
+  int coarse_iterations = 0;
+  std::uint64_t coarse_ticks = 0;
+  bool budget_out = false;  // decisions were left unevaluated (coarse QPs or iterations spent)
+};
 
 struct DecisionWeights {
   GeometricWeights geometric;
@@ -42,6 +60,11 @@ class BasicDecisionStage {
   DecisionStatus run(const RoadSl& road, std::span<const SlBox> boxes,
                      const ConvexSpaceParams& params, const CoarseInput& input,
                      const DecisionWeights& weights);
+  // The same within `budget`, reporting the work done.
+  DecisionStatus run(const RoadSl& road, std::span<const SlBox> boxes,
+                     const ConvexSpaceParams& params, const CoarseInput& input,
+                     const DecisionWeights& weights, const DecisionBudget& budget, TickSource ticks,
+                     DecisionWork& work);
 
   const ConvexSpace& space() const { return space_; }
   const DecisionSet& decisions() const { return set_; }

@@ -51,7 +51,7 @@ struct BasicDecisionSet {
 
 template <class Cfg>
 void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeights& weights,
-                         BasicDecisionSet<Cfg>& out);
+                         BasicDecisionSet<Cfg>& out, int max_nodes = 0);  // <= 0: kMaxTreeNodes
 
 // Which side of a box a decision passes.
 enum class Side : std::uint8_t {

@@ -38,7 +38,7 @@ inline constexpr std::size_t kMaxSceneBytes =
     (1 + Cfg::kMaxDynamicObstacles * (13 + 20 * Cfg::kMaxPredictionSamples));
 template <class Cfg>
 inline constexpr std::size_t kMaxPlanBytes =
-    93 + 36 * Cfg::kTrajectorySamples + 1 + 7 * Cfg::kMaxObstacles;
+    123 + 36 * Cfg::kTrajectorySamples + 1 + 7 * Cfg::kMaxObstacles;
 
 // Both travel secured (freshness and tag around the body) in at most
 // kMaxSegments segments.

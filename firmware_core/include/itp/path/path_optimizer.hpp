@@ -89,8 +89,9 @@ class BasicPathOptimizer {
   // Forget the factorisation: the next solve is cold.
   void reset() { qp_.reset(); }
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
+  // max_iterations: the run-time iteration cap (<= 0: kPathQpMaxIterations).
   void solve(const ConvexSpace& space, const Decision& decision, const PathInput& in,
-             const PathWeights& w, PathResult& out);
+             const PathWeights& w, PathResult& out, int max_iterations = 0);
   // The QP of the last solve (for dumps and tests).
   const qp::QpProblem<PathDims>& problem() const { return qp_.problem(); }
 

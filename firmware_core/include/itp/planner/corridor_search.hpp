@@ -82,8 +82,21 @@ class BasicCorridorSearch {
   PathOptimizer path_opt_{};
   // Corridors whose path QP failed this cycle (skipped when met again).
   StaticVector<std::uint64_t, Cfg::kRememberedInfeasibleCorridors> infeasible_;
-  int path_solves_ = 0;    // path QPs this cycle (<= kMaxPathSolvesPerCycle)
-  int decision_runs_ = 0;  // decision-stage runs this cycle (<= kMaxDecisionRunsPerCycle)
+  // Work this cycle, against the per-cycle budgets (itp/config.hpp).
+  int path_solves_ = 0;        // path QPs (<= kMaxPathSolvesPerCycle)
+  int path_iterations_ = 0;    // their iterations (<= kMaxPathIterationsPerCycle)
+  int decision_runs_ = 0;      // decision-stage runs (<= kMaxDecisionRunsPerCycle)
+  int tree_nodes_ = 0;         // (<= kMaxTreeNodesPerCycle)
+  int coarse_qps_ = 0;         // (<= kMaxCoarseQpsPerCycle)
+  int coarse_iterations_ = 0;  // (<= kMaxCoarseIterationsPerCycle)
+  bool path_budget_out_ = false;  // a path budget stopped the path QPs of a round
+  bool decision_budget_spent() const {
+    return decision_runs_ >= Cfg::kMaxDecisionRunsPerCycle || tree_nodes_ >= Cfg::kMaxTreeNodesPerCycle ||
+           coarse_qps_ >= Cfg::kMaxCoarseQpsPerCycle || coarse_iterations_ >= Cfg::kMaxCoarseIterationsPerCycle;
+  }
+  bool path_budget_spent() const {
+    return path_solves_ >= Cfg::kMaxPathSolvesPerCycle || path_iterations_ >= Cfg::kMaxPathIterationsPerCycle;
+  }
   int chosen_ = -1;
   bool evasive_ = false;
 };

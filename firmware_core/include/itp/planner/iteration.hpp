@@ -58,7 +58,10 @@ class BasicIteration {
     search_.reset();
     speed_opt_.reset();
   }
-  void begin_cycle() { search_.begin_cycle(); }
+  void begin_cycle() {
+    search_.begin_cycle();
+    speed_budget_out_ = false;
+  }
 
   // Runs the iteration from `start`. kNone: `out` holds the trajectory with
   // status ok, or fallback evasive / blocked (an optimised trajectory that
@@ -81,6 +84,9 @@ class BasicIteration {
   void guess_first_speed(Context& ctx, const StartState& start, StSamples& s_guess, StSamples& v_guess,
                          BasicPlan<Cfg>& out);
   void plan_speed(Context& ctx, const StSamples& s_guess, const StSamples& v_guess, BasicPlan<Cfg>& out);
+  // One speed QP within the cycle's speed budgets (else speed_ is not usable
+  // and speed_budget_out_ is set).
+  void solve_speed(Context& ctx, BasicPlan<Cfg>& out);
   void sample_trajectory(const ReferenceLine& reference, const StartState& start, BasicPlan<Cfg>& out) const;
 
   Search search_{};
@@ -89,6 +95,7 @@ class BasicIteration {
   SpeedBounds bounds_{};
   SpeedOptimizer speed_opt_{};
   SpeedResult speed_{};
+  bool speed_budget_out_ = false;  // a speed budget (itp/config.hpp) ran out this cycle
 };
 
 }  // namespace itp::planner

@@ -34,6 +34,7 @@ enum class FallbackReason : std::uint8_t {
   kCollision,         // the optimised trajectory still collides after the last iteration
   kHorizonTooShort,   // the ego is at (or past) the end of the reference line
   kEvasive,           // the only path found needs more than lat_acc_max (up to evasive_lat_acc)
+  kBudget,            // a per-cycle work budget ran out (the worst-case bound, itp/config.hpp)
 };
 
 const char* to_string(FallbackReason reason);
@@ -57,6 +58,16 @@ struct StageTiming {
   std::uint64_t total = 0;
   std::uint64_t tick_hz = 0;
   int decision_runs = 0;       // decision-stage calls (iterations x dynamic re-decisions)
+  // The work of the cycle in the units of its budgets (itp/config.hpp; the
+  // worst-case table, `make wcet`, divides the stage ticks by them).
+  std::uint64_t coarse = 0;    // coarse QPs (part of `decision`)
+  int tree_nodes = 0;          // decision-tree nodes expanded
+  int coarse_qps = 0;
+  int coarse_iterations = 0;
+  int path_solves = 0;
+  int path_iterations = 0;
+  int speed_solves = 0;        // speed QPs (each after at most one ST graph build)
+  int speed_iterations = 0;
 };
 
 // The output of one cycle, with the capacities of configuration Cfg.

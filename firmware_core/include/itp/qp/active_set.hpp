@@ -455,6 +455,10 @@ struct ActiveSetSolver {
       zero_steps = step > S(0) ? 0 : zero_steps + 1;
       stalled = step > S(0) ? 0 : stalled + 1;
     };
+    // WCET: the constant kMaxPasses; the passes that cost a working-set change
+    // are <= max_iterations, the run-time cap (QpSettings::max_iterations, per
+    // stage in itp/config.hpp: kCoarseQpMaxIterations, kPathQpMaxIterations,
+    // kSpeedQpMaxIterations, lowered to what is left of a per-cycle budget).
     for (int pass = 0; pass < kMaxPasses; ++pass) {
       if (stalled > D::kMaxZeroRun) {
         // Start again from a fresh factor, once per budget.

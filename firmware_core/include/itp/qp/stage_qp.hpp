@@ -31,13 +31,19 @@ class StageQp {
   // the iteration cap or in numerical trouble the factor of H is still
   // valid, and with `keep_factor_after_failure` the next solve hotstarts from
   // its working set.
-  QpStatus solve(const Key& key, bool keep_factor_after_failure = false) {
+  // `max_iterations` > 0 lowers the settings' run-time iteration cap for this
+  // solve (what is left of a per-cycle budget).
+  QpStatus solve(const Key& key, bool keep_factor_after_failure = false, int max_iterations = 0) {
+    QpSettings<Scalar> settings = settings_;
+    if (max_iterations > 0 && (settings.max_iterations <= 0 || max_iterations < settings.max_iterations)) {
+      settings.max_iterations = max_iterations;
+    }
     QpStatus st = QpStatus::kNotFactored;
     if (same_matrices(key) && have_factor_) {
-      st = solve_hot(problem_, workspace_, settings_, result_);
+      st = solve_hot(problem_, workspace_, settings, result_);
     }
     if (st == QpStatus::kNotFactored) {
-      st = solve_cold(problem_, workspace_, settings_, result_);
+      st = solve_cold(problem_, workspace_, settings, result_);
     }
     have_factor_ = is_usable(st) ||
                    (keep_factor_after_failure && (st == QpStatus::kInfeasible || st == QpStatus::kIterationLimit ||

@@ -82,8 +82,9 @@ class BasicSpeedOptimizer {
   // Forget the factorisation: the next solve is cold.
   void reset() { qp_.reset(); }
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) { observer_ = observer; }
+  // max_iterations: the run-time iteration cap (<= 0: kSpeedQpMaxIterations).
   void solve(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w,
-             SpeedResult& out);
+             SpeedResult& out, int max_iterations = 0);
   const qp::QpProblem<SpeedDims>& problem() const { return qp_.problem(); }
 
  private:
@@ -91,7 +92,7 @@ class BasicSpeedOptimizer {
   void build(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w, Scalar h,
              bool same_matrices);
 
-  qp::StageQp<SpeedDims, SpeedMatrixKey> qp_{};
+  qp::StageQp<SpeedDims, SpeedMatrixKey> qp_{qp::QpSettings<Scalar>{.max_iterations = Cfg::kSpeedQpMaxIterations}};
   const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
 

@@ -1,0 +1,219 @@
+#!/usr/bin/env python3
+"""The planner's derived worst case per cycle (issue 12, item 3; `make wcet`).
+
+Two steps, Python standard library only:
+
+  measure  Read closed-loop traces of the Cortex-M7 firmware under QEMU
+           (`hil_sim run --target qemu --trace T.jsonl`, -icount shift=0: the
+           port's timer counts 40 instructions per tick). Every cycle carries
+           its stage ticks and its work in the units of the budgets ("work").
+           Per stage, fit the cheapest cost model
+               cost <= c0 + a * unit1 + b * unit2        [instructions]
+           that lies above EVERY measured cycle (an upper envelope: c0 the
+           worst stage cost of a cycle without any unit, then a, b minimise
+           seen1 * a + seen2 * b subject to the envelope, seen = the most
+           units of a cycle: tight where the data is), and write the
+           costs per unit and the measured maxima to a JSON file.
+
+  table    (default) Read the budgets from itp/config.hpp (DefaultSizes) and
+           the JSON, print budget x cost per unit per stage, the derived bound
+           (with the stated margin on every measured cost) and the measured
+           maxima on the default and the stress suite.
+"""
+import argparse
+import json
+import math
+import re
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CONFIG = ROOT / "firmware_core/include/itp/config.hpp"
+COSTS = ROOT / "tools/wcet_costs.json"
+INSTRUCTIONS_PER_TICK = 40  # port/mps2: the QEMU timer's 25 MHz at -icount shift=0 (1 GHz virtual)
+
+# stage: (label, cost(work, cycle), [(unit key, budget name), ...])
+# Units are per cycle; a budget name "1" means once per cycle.
+STAGES = [
+    ("prepare", "validation, reference fit, SL scene", lambda w, c: w["prepare"], []),
+    ("decision", "convex space + tree (per run, per node)", lambda w, c: w["decision"] - w["coarse"],
+     [("decision_runs", "kMaxDecisionRunsPerCycle"), ("tree_nodes", "kMaxTreeNodesPerCycle")]),
+    ("coarse", "coarse QPs (per QP, per iteration)", lambda w, c: w["coarse"],
+     [("coarse_qps", "kMaxCoarseQpsPerCycle"), ("coarse_iterations", "kMaxCoarseIterationsPerCycle")]),
+    ("path", "path QPs (per solve, per iteration)", lambda w, c: w["path"],
+     [("path_solves", "kMaxPathSolvesPerCycle"), ("path_iterations", "kMaxPathIterationsPerCycle")]),
+    ("speed", "ST graph + speed QP (per solve, per iteration)", lambda w, c: w["speed"],
+     [("speed_solves", "kMaxSpeedSolvesPerCycle"), ("speed_iterations", "kMaxSpeedIterationsPerCycle")]),
+    ("check", "sampling + collision check (per iteration)", lambda w, c: w["check"],
+     [("iterations", "kMaxPlannerIterations")]),
+    ("rest", "start state, inputs, fallback stop, records", lambda w, c: w["total"] - (
+        w["prepare"] + w["decision"] + w["path"] + w["speed"] + w["check"]), []),
+]
+
+
+def read_budgets(path):
+    text = Path(path).read_text()
+    start = text.index("struct DefaultSizes")
+    body = text[start:text.index("};", start)]
+    budgets = {}
+    for m in re.finditer(r"static constexpr int (k\w+) = ([0-9]+);", body):
+        budgets[m.group(1)] = int(m.group(2))
+    return budgets
+
+
+def read_cycles(paths):
+    cycles = []
+    for p in paths:
+        with open(p) as f:
+            for line in f:
+                c = json.loads(line)
+                if "work" in c:
+                    cycles.append(c)
+    return cycles
+
+
+def units_of(w, c, key):
+    return c.get(key, 0) if key == "iterations" else w[key]
+
+
+def fit(points, budgets):
+    """points: [(cost, (u1, u2, ...))]. Returns (c0, [per unit]) with
+    c0 + sum(a_j u_j) >= cost for every point, minimising sum(a_j B_j)."""
+    zero = [cost for cost, u in points if all(x == 0 for x in u)]
+    c0 = max(zero, default=0.0)
+    pts = [(cost - c0, u) for cost, u in points if any(x > 0 for x in u) and cost > c0]
+    if not budgets:
+        return max([cost for cost, _ in points], default=0.0), []
+    if len(budgets) == 1:
+        return c0, [max([r / u[0] for r, u in pts], default=0.0)]
+    # Two units: a(b) = max_i (r_i - b k_i) / n_i is convex and piecewise
+    # linear, so B1 a(b) + B2 b is convex in b: ternary search. Points with
+    # n_i = 0 bound b from below.
+    best = {}
+    for r, (n, k) in pts:  # keep the worst cost per (n, k)
+        best[(n, k)] = max(best.get((n, k), 0.0), r)
+    pts = [(r, n, k) for (n, k), r in best.items()]
+    b_lo = max([r / k for r, n, k in pts if n == 0], default=0.0)
+    b_hi = max([r / k for r, n, k in pts if k > 0] + [b_lo])
+
+    def a_of(b):
+        return max([max(0.0, (r - b * k) / n) for r, n, k in pts if n > 0], default=0.0)
+
+    B1, B2 = budgets
+    lo, hi = b_lo, b_hi
+    for _ in range(100):
+        m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
+        if B1 * a_of(m1) + B2 * m1 <= B1 * a_of(m2) + B2 * m2:
+            hi = m2
+        else:
+            lo = m1
+    b = hi  # the upper end keeps every n = 0 point covered
+    return c0, [a_of(b), b]
+
+
+def measure(args):
+    budgets = read_budgets(args.config)
+    suites = {"default": args.default, "stress": args.stress}
+    data = {name: read_cycles(paths) for name, paths in suites.items() if paths}
+    allc = [c for cs in data.values() for c in cs]
+    if not allc:
+        sys.exit("wcet_table: no cycles with 'work' in the traces")
+    ipt = args.instructions_per_tick
+    out = {"instructions_per_tick": ipt, "margin": args.margin, "stages": {}, "measured": {},
+           "traces": {k: [str(p) for p in v] for k, v in suites.items() if v}, "note": args.note,
+           "budgets_at_measurement": budgets}
+    for key, label, cost, units in STAGES:
+        pts = [(ipt * cost(c["work"], c), tuple(units_of(c["work"], c, u) for u, _ in units)) for c in allc]
+        # The envelope is made tight at the largest work seen (not at the
+        # budgets, which would let the fit drop the cost of the unit with the
+        # larger budget and keep only what the data never tested).
+        seen = [max(1, max(u[j] for _, u in pts)) for j in range(len(units))]
+        c0, per = fit(pts, seen)
+        worst = max(cost for cost, _ in pts)
+        maxu = [max(u[j] for _, u in pts) for j in range(len(units))]
+        out["stages"][key] = {"label": label, "per_cycle": c0,
+                              "units": [{"unit": u, "budget": b, "cost": a, "max_seen": m}
+                                        for (u, b), a, m in zip(units, per, maxu)],
+                              "max_seen": worst}
+    for name, cs in data.items():
+        ins = [c.get("instructions", ipt * c["work"]["total"]) for c in cs]
+        worst = max(range(len(cs)), key=lambda i: ins[i])
+        wc = cs[worst]
+        out["measured"][name] = {
+            "cycles": len(cs), "max": max(ins), "median": sorted(ins)[len(ins) // 2],
+            "p99": sorted(ins)[min(len(ins) - 1, int(0.99 * len(ins)))],
+            "worst_cycle": {"scene": wc["scene"], "t": wc["t"], "status": wc["status"], "reason": wc["reason"],
+                            "work": wc["work"]},
+            "fallbacks": sum(1 for c in cs if c["status"] == "fallback"),
+            "budget_fallbacks": sum(1 for c in cs if c["reason"] == "budget"),
+        }
+    Path(args.out).write_text(json.dumps(out, indent=1) + "\n")
+    print(f"wcet_table: {len(allc)} cycles -> {args.out}")
+
+
+def fmt_m(x):
+    return f"{x / 1e6:8.2f} M"
+
+
+def table(args):
+    budgets = read_budgets(args.config)
+    costs = json.loads(Path(args.costs).read_text())
+    margin = costs["margin"]
+    print(f"Derived worst case per planning cycle (Cortex-M7 instructions, QEMU -icount; "
+          f"measured costs x {margin:g} margin)")
+    print(f"budgets: {args.config}; costs: {args.costs}")
+    print()
+    print(f"{'stage':<10} {'unit':<18} {'budget':>7} {'cost/unit':>11} {'product':>11}   {'max seen (units)':>16}")
+    total = 0.0
+    for key, label, _, units in STAGES:
+        st = costs["stages"][key]
+        stage_sum = margin * st["per_cycle"]
+        rows = []
+        if st["per_cycle"] > 0 or not units:
+            rows.append(("per cycle", 1, margin * st["per_cycle"], margin * st["per_cycle"], ""))
+        for u in st["units"]:
+            b = budgets[u["budget"]]
+            prod = b * margin * u["cost"]
+            stage_sum += prod
+            rows.append((u["unit"], b, margin * u["cost"], prod, u["max_seen"]))
+        for i, (unit, b, c, p, seen) in enumerate(rows):
+            print(f"{key if i == 0 else '':<10} {unit:<18} {b:>7} {c:>11.0f} {fmt_m(p):>11}   {seen!s:>16}")
+        print(f"{'':<10} {'= ' + label:<50} {fmt_m(stage_sum):>11}   (max seen {fmt_m(st['max_seen']).strip()})")
+        total += stage_sum
+    print()
+    print(f"{'derived bound per cycle':<50} {fmt_m(total):>11}   (acceptance <= 40 M, goal 20 M)")
+    for name, m in costs.get("measured", {}).items():
+        wc = m["worst_cycle"]
+        print(f"measured max, {name:<8} suite ({m['cycles']} cycles): {fmt_m(m['max']).strip()}"
+              f"  (median {fmt_m(m['median']).strip()}, p99 {fmt_m(m['p99']).strip()};"
+              f" worst: {wc['scene']} t = {wc['t']:.1f} s {wc['status']} {wc['reason']};"
+              f" budget fallbacks {m['budget_fallbacks']} of {m['fallbacks']})")
+    if costs.get("note"):
+        print(f"note: {costs['note']}")
+    return 0 if total <= 40e6 else 1
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--config", default=str(CONFIG))
+    sub = ap.add_subparsers(dest="cmd")
+    m = sub.add_parser("measure", help="fit costs per unit from QEMU traces")
+    m.add_argument("--default", nargs="*", default=[], help="traces of the default suite")
+    m.add_argument("--stress", nargs="*", default=[], help="traces of the stress suite")
+    m.add_argument("--out", default=str(COSTS))
+    m.add_argument("--margin", type=float, default=1.2, help="factor on every measured cost")
+    m.add_argument("--instructions-per-tick", type=float, default=INSTRUCTIONS_PER_TICK)
+    m.add_argument("--note", default="")
+    t = sub.add_parser("table", help="print the table (default)")
+    t.add_argument("--costs", default=str(COSTS))
+    args = ap.parse_args()
+    if args.cmd == "measure":
+        measure(args)
+        return 0
+    if args.cmd is None:
+        args.costs = str(COSTS)
+    return table(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
