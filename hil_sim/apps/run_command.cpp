@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <type_traits>
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -45,6 +46,7 @@ void add_run_options(CLI::App& cmd, RunCommand& run) {
       ->capture_default_str();
   add_generator_options(cmd, run.count, run.seed);
   add_target_option(cmd, run.target, {"inproc", "host", "qemu"});
+  add_config_option(cmd, run.target);
   add_firmware_option(cmd, run.target);
   add_prediction_option(cmd, run.prediction);
   cmd.add_option("--report", run.report, "Write report/1 JSON here");
@@ -93,6 +95,10 @@ class Progress {
   int last_decile_ = 0;
 };
 
+// Everything after loading the worlds, with the planner of configuration Cfg.
+template <class Cfg>
+int run_worlds(const RunCommand& cmd, const std::vector<World>& worlds);
+
 }  // namespace
 
 int run_command(const RunCommand& cmd) {
@@ -114,6 +120,14 @@ int run_command(const RunCommand& cmd) {
     fmt::print(stderr, "hil_sim run: unknown suite '{}' (known: default)\n", cmd.suite);
     return 2;
   }
+  return sim::with_config(sim_config(cmd.target),
+                          [&]<class Cfg>(std::type_identity<Cfg>) { return run_worlds<Cfg>(cmd, worlds); });
+}
+
+namespace {
+
+template <class Cfg>
+int run_worlds(const RunCommand& cmd, const std::vector<World>& worlds) {
 
   // Endpoint.
   std::string why;
@@ -131,7 +145,7 @@ int run_command(const RunCommand& cmd) {
     fmt::print(stderr, "hil_sim run: --link-faults needs a link (--target host or qemu)\n");
     return 2;
   }
-  const std::unique_ptr<sim::PlannerEndpoint> endpoint = make_endpoint(cmd.target, link, why);
+  const std::unique_ptr<sim::BasicPlannerEndpoint<Cfg>> endpoint = make_endpoint<Cfg>(cmd.target, link, why);
   if (!endpoint) {
     fmt::print(stderr, "hil_sim run: cannot use target '{}'{}\n", cmd.target.name, why.empty() ? "" : ": " + why);
     return 2;
@@ -150,8 +164,8 @@ int run_command(const RunCommand& cmd) {
     }
   }
 
-  fmt::print("hil_sim run: {} scenes, target {}, prediction {}{}\n", worlds.size(), endpoint->name(),
-             opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity",
+  fmt::print("hil_sim run: {} scenes, target {}, config {}, prediction {}{}\n", worlds.size(), endpoint->name(),
+             sim::to_string(sim::sim_config_of<Cfg>()), opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity",
              link.faults.any() ? ", link faults " + to_string(link.faults) : std::string());
   std::fflush(stdout);
   std::ofstream trace;
@@ -187,6 +201,7 @@ int run_command(const RunCommand& cmd) {
   }
 
   json rep = suite.report(endpoint->name());
+  rep["config"] = sim::to_string(sim::sim_config_of<Cfg>());
   const json link_stats = endpoint->link_statistics();
   if (!link_stats.is_null()) rep["link"] = link_stats;
   fmt::print("{}", sim::summary_table(rep));
@@ -246,4 +261,5 @@ int run_command(const RunCommand& cmd) {
   return 0;
 }
 
+}  // namespace
 }  // namespace hil::apps
