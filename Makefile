@@ -95,7 +95,7 @@ size: cortex-m7
 stack: cortex-m7
 	@echo "== Stack analysis: $(FIRMWARE_ELF)"
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(FIRMWARE_ELF) --json build/cortex-m7/stack_analysis.json
-	@echo "== Stack analysis, the road image (its own STACK_SIZE): $(ROAD_FIRMWARE_ELF)"
+	@echo "== Stack analysis, the road image (checked against its .stack): $(ROAD_FIRMWARE_ELF)"
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(ROAD_FIRMWARE_ELF) --quiet
 	@echo "== Stack analysis, the test image (its own STACK_SIZE): $(TEST_FIRMWARE_ELF)"
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(TEST_FIRMWARE_ELF) --quiet
