@@ -128,7 +128,6 @@ namespace {
 
 template <class Cfg>
 int run_worlds(const RunCommand& cmd, const std::vector<World>& worlds) {
-
   // Endpoint.
   std::string why;
   sim::LinkOptions link;
@@ -165,7 +164,8 @@ int run_worlds(const RunCommand& cmd, const std::vector<World>& worlds) {
   }
 
   fmt::print("hil_sim run: {} scenes, target {}, config {}, prediction {}{}\n", worlds.size(), endpoint->name(),
-             sim::to_string(sim::sim_config_of<Cfg>()), opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity",
+             sim::to_string(sim::sim_config_of<Cfg>()),
+             opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity",
              link.faults.any() ? ", link faults " + to_string(link.faults) : std::string());
   std::fflush(stdout);
   std::ofstream trace;
