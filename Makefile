@@ -18,6 +18,9 @@ FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500.elf
 # and `make size` read the same number); `make size RAM_BUDGET=...` overrides
 # it for the report only.
 RAM_BUDGET ?=
+# The road image: the production service for RoadConfig (32 + 32 objects; no
+# RAM budget, its figure is reported).
+ROAD_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_road.elf
 # The test image (QP-check service), used by the QEMU QP agreement test only.
 TEST_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_qp_check.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim
@@ -41,7 +44,8 @@ help:
 	@echo "make test   - host-debug (ASan+UBSan) tests, cortex-m7 build + size and stack checks,"
 	@echo "              host-release tests incl. QEMU, the fuzz targets on their seed corpus"
 	@echo "make deps   - install missing Debian packages (idempotent; needs root)"
-	@echo "make size   - ARM RAM by module (planner stages, scene, plan, link, stack), fails over the RAM budget"
+	@echo "make size   - ARM RAM by module (planner stages, scene, plan, link, stack), fails over the RAM budget;"
+	@echo "              the road image's table too (reported, no budget)"
 	@echo "make stack  - worst-case stack path from the call graph (-fstack-usage), fails on recursion,"
 	@echo "              dynamic frames, unresolved indirect calls or a linker-script stack below bound + margin"
 	@echo "make wcet   - the derived worst case per cycle: budgets x measured cost per unit, measured maxima"
@@ -103,8 +107,10 @@ wcet-measure: host-release
 size: cortex-m7
 	@echo "== ARM size report: $(FIRMWARE_ELF) (production image)"
 	@arm-none-eabi-size -A -d $(FIRMWARE_ELF) | grep -E "^(section|\.isr_vector|\.text|\.data|\.bss|\.stack)"
-	@arm-none-eabi-size $(FIRMWARE_ELF) $(TEST_FIRMWARE_ELF)
+	@arm-none-eabi-size $(FIRMWARE_ELF) $(ROAD_FIRMWARE_ELF) $(TEST_FIRMWARE_ELF)
 	python3 tools/size_report.py --elf $(FIRMWARE_ELF) $(if $(RAM_BUDGET),--budget $(RAM_BUDGET))
+	@echo "== The road image (RoadConfig: 32 + 32 objects; its own figure, no budget): $(ROAD_FIRMWARE_ELF)"
+	python3 tools/size_report.py --elf $(ROAD_FIRMWARE_ELF) --no-budget
 	@echo "== The test image (QP check; never flashed, no budget): $(TEST_FIRMWARE_ELF)"
 	set -o pipefail; python3 tools/size_report.py --elf $(TEST_FIRMWARE_ELF) --no-budget | grep -E "^(RAM by|  QP-check|total)"
 
@@ -112,6 +118,8 @@ size: cortex-m7
 stack: cortex-m7
 	@echo "== Stack analysis: $(FIRMWARE_ELF)"
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(FIRMWARE_ELF) --json build/cortex-m7/stack_analysis.json
+	@echo "== Stack analysis, the road image (checked against its .stack): $(ROAD_FIRMWARE_ELF)"
+	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(ROAD_FIRMWARE_ELF) --quiet
 	@echo "== Stack analysis, the test image (its own STACK_SIZE): $(TEST_FIRMWARE_ELF)"
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(TEST_FIRMWARE_ELF) --quiet
 

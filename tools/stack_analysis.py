@@ -20,7 +20,11 @@ table. It fails (exit 1), naming the culprit, on
     tools/stack_targets.txt gives no bound for,
   - a linker-script stack (.stack in the ELF) smaller than bound + margin.
 Nothing is ignored silently: every resolution from the targets file that was
-used is printed.
+used is printed. A call to a function that GCC folded into an identical one
+(identical code folding, -fipa-icf: the folded function has no stack data of
+its own, the ELF names both at one address, e.g. a template instantiated for
+two configurations whose sizes it does not use) resolves to that one; these
+are counted in the report.
 
 The bound. Handlers preempt the main path. The firmware masks interrupts
 (PRIMASK) and polls, so only the fault handlers and NMI can run; to stay
@@ -193,6 +197,16 @@ def run(cmd):
         raise AnalysisError(f"{' '.join(cmd)} failed: {e}")
 
 
+def elf_aliases(elf, nm):
+    """{symbol: [other function symbols at the same address]} of the ELF."""
+    at = {}
+    for line in run([nm, elf]).splitlines():
+        parts = line.split()
+        if len(parts) == 3 and parts[1] in "TtWw":
+            at.setdefault(int(parts[0], 16), []).append(parts[2])
+    return {sym: [o for o in syms if o != sym] for syms in at.values() if len(syms) > 1 for sym in syms}
+
+
 def elf_functions(elf, nm):
     """{address: symbol} of the ELF's functions."""
     by_addr = {}
@@ -267,6 +281,8 @@ class Graph:
         self.memo = {}
         self.state = {}
         self.init_array = []  # symbols of the ELF's .init_array entries
+        self.aliases = {}  # symbol -> symbols at the same ELF address (identical code folding)
+        self.used_aliases = {}  # folded symbol -> the one with stack data it resolved to
         self.errors = []  # unresolved calls: all are reported, then the analysis fails
 
     def add(self, defs, externals):
@@ -278,6 +294,22 @@ class Graph:
         self.externals.update(externals)
 
     def resolve(self, caller, symbol):
+        """The Function(s) a call from `caller` to `symbol` can reach (as
+        resolve_direct), else, when GCC folded `symbol` into an identical
+        function (the ELF has both at one address), that function's."""
+        found = self.resolve_direct(caller, symbol)
+        if found:
+            return found
+        bare = bare_symbol(symbol)
+        prefix = symbol[:len(symbol) - len(bare)]
+        for other in self.aliases.get(bare, []):
+            found = self.resolve_direct(caller, prefix + other)
+            if found:
+                self.used_aliases[symbol] = other
+                return found
+        return []
+
+    def resolve_direct(self, caller, symbol):
         """The Function(s) a call from `caller` to `symbol` can reach.
         GCC titles a function "SOURCE:SYMBOL" when it is local to its object
         or an explicit template instantiation; other objects call the bare
@@ -421,6 +453,7 @@ def analyse(args):
             raise AnalysisError(f"{sym} is in the ELF, but the targets file says it is absent "
                                 f"(an indirect call it backs may have a target now)")
     graph.init_array = init_array(args.elf, args.objdump, symbols)
+    graph.aliases = elf_aliases(args.elf, args.nm)
     su_rows = 0
     for ci in ci_files:
         defs, externals = parse_ci(ci)
@@ -473,6 +506,7 @@ def analyse(args):
         "library_bounds_used": graph.used_libs,
         "indirect_resolutions_used": graph.used_calls,
         "dynamic_bounded": {k: v[1] for k, v in graph.bounded.items()},
+        "folded_calls_resolved": len(graph.used_aliases),
     }
 
 
@@ -516,6 +550,9 @@ def main():
             print("indirect calls resolved (tools/stack_targets.txt):")
             for k, v in sorted(r["indirect_resolutions_used"].items()):
                 print(f"  {k} -> {' '.join(v)}")
+        if r["folded_calls_resolved"]:
+            print(f"calls to identical-code-folded functions resolved to the function kept at their address: "
+                  f"{r['folded_calls_resolved']}")
         if r["dynamic_bounded"]:
             print("dynamic,bounded frames (GCC's number taken as the bound):")
             for k, v in sorted(r["dynamic_bounded"].items()):

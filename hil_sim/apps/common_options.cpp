@@ -36,6 +36,18 @@ void add_firmware_option(CLI::App& cmd, TargetOptions& target, const std::string
                  "host/qemu: firmware executable (host) or ELF (qemu) (default: " + default_image + ")");
 }
 
+void add_config_option(CLI::App& cmd, TargetOptions& target) {
+  cmd.add_option("--config", target.config,
+                 "Planner configuration: default (10 static + 5 moving objects) or road (32 + 32, predictions every "
+                 "0.2 s); host/qemu start that configuration's firmware unless --firmware is given")
+      ->check(CLI::IsMember({"default", "road"}))
+      ->capture_default_str();
+}
+
+sim::SimConfig sim_config(const TargetOptions& target) {
+  return sim::parse_sim_config(target.config).value_or(sim::SimConfig::kDefault);
+}
+
 void add_key_option(CLI::App& cmd, TargetOptions& target) {
   cmd.add_option("--key", target.key_file,
                  "host/qemu: link key file (AES-128: 16 bytes or 32 hex digits; default: a fresh random key for the run)");
@@ -79,12 +91,23 @@ void add_commonroad_options(CLI::App& cmd, sim::CommonRoadOptions& o, bool on_im
                "instead of refusing the file");
 }
 
-std::unique_ptr<sim::PlannerEndpoint> make_endpoint(const TargetOptions& target, sim::LinkOptions link,
-                                                    std::string& why) {
-  if (target.name == "inproc") return std::make_unique<sim::InprocEndpoint>();
+template <class Cfg>
+std::unique_ptr<sim::BasicPlannerEndpoint<Cfg>> make_endpoint(const TargetOptions& target, sim::LinkOptions link,
+                                                              std::string& why) {
+  if (sim_config(target) != sim::sim_config_of<Cfg>()) {
+    why = "--config " + target.config + " does not match the configuration planned with";
+    return nullptr;
+  }
+  if (target.name == "inproc") return std::make_unique<sim::BasicInprocEndpoint<Cfg>>();
   if (target.name != "host" && target.name != "qemu") return nullptr;
   link.key_file = target.key_file;
-  return sim::make_link_endpoint(target.name, target.firmware, &why, link);
+  return sim::make_link_endpoint<Cfg>(target.name, target.firmware, &why, link);
 }
+
+#define HIL_APPS_INSTANTIATE_ENDPOINT(Cfg)                                                                 \
+  template std::unique_ptr<sim::BasicPlannerEndpoint<Cfg>> make_endpoint<Cfg>(const TargetOptions&,     \
+                                                                              sim::LinkOptions, std::string&);
+HIL_SIM_FOR_EACH_CONFIG(HIL_APPS_INSTANTIATE_ENDPOINT)
+#undef HIL_APPS_INSTANTIATE_ENDPOINT
 
 }  // namespace hil::apps

@@ -15,14 +15,17 @@
 #include "sim/link_endpoint.hpp"
 #include "sim/planner_endpoint.hpp"
 #include "sim/scene_convert.hpp"
+#include "sim/sim_config.hpp"
 
 namespace hil::apps {
 
-// Where the planner runs, and how the host reaches a firmware.
+// Where the planner runs, with which configuration, and how the host
+// reaches a firmware.
 struct TargetOptions {
-  std::string name = "inproc";  // inproc | host | qemu
-  std::string firmware;         // host: executable, qemu: ELF ("" = this build's)
-  std::string key_file;         // the link key ("" = a fresh random key for the run)
+  std::string name = "inproc";    // inproc | host | qemu
+  std::string config = "default";  // default | road (sim/sim_config.hpp)
+  std::string firmware;           // host: executable, qemu: ELF ("" = this build's, of `config`)
+  std::string key_file;           // the link key ("" = a fresh random key for the run)
 };
 
 // --target, one of `choices` (a subset of inproc, host, qemu); its default is
@@ -30,6 +33,10 @@ struct TargetOptions {
 void add_target_option(CLI::App& cmd, TargetOptions& target, const std::vector<std::string>& choices);
 // --firmware; `default_image` says what an empty value means.
 void add_firmware_option(CLI::App& cmd, TargetOptions& target, const std::string& default_image = "this build's");
+// --config default | road: the planner configuration (the firmware targets
+// start that configuration's image unless --firmware names one).
+void add_config_option(CLI::App& cmd, TargetOptions& target);
+sim::SimConfig sim_config(const TargetOptions& target);
 // --key: the link key file.
 void add_key_option(CLI::App& cmd, TargetOptions& target);
 // The firmware to start: --firmware, else the target's default image.
@@ -48,10 +55,13 @@ sim::Prediction prediction_mode(const std::string& prediction);
 // --scenario-duration); on run, --duration already sets every scene's run length.
 void add_commonroad_options(CLI::App& cmd, sim::CommonRoadOptions& options, bool on_import);
 
-// The planner endpoint of `target`: the planner in this process (inproc) or a
+// The planner endpoint of `target` for configuration Cfg (which must be the
+// one target.config names): the planner in this process (inproc) or a
 // firmware over the link (host, qemu; `link` without its key file, which
 // comes from `target`). nullptr, and `why` filled, when it cannot be used.
-std::unique_ptr<sim::PlannerEndpoint> make_endpoint(const TargetOptions& target, sim::LinkOptions link,
-                                                    std::string& why);
+// Compiled for HIL_SIM_FOR_EACH_CONFIG.
+template <class Cfg = itp::DefaultConfig>
+std::unique_ptr<sim::BasicPlannerEndpoint<Cfg>> make_endpoint(const TargetOptions& target, sim::LinkOptions link,
+                                                              std::string& why);
 
 }  // namespace hil::apps

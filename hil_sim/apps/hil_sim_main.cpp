@@ -32,7 +32,7 @@
 namespace {
 
 struct PingOptions {
-  hil::apps::TargetOptions target{"qemu", "", ""};
+  hil::apps::TargetOptions target{"qemu", "default", "", ""};
   std::string log;
   int count = 10;
   int timeout_ms = 5000;
@@ -118,8 +118,9 @@ std::vector<std::uint8_t> make_garbage(std::mt19937& rng) {
 }
 
 int run_ping(const PingOptions& opt) {
-  const std::string firmware =
-      hil::apps::firmware_image(opt.target, ITP_DEFAULT_HOST_FIRMWARE, ITP_DEFAULT_QEMU_FIRMWARE);
+  const hil::sim::SimConfig config = hil::apps::sim_config(opt.target);
+  const std::string firmware = hil::apps::firmware_image(opt.target, hil::sim::default_firmware("host", config),
+                                                         hil::sim::default_firmware("qemu", config));
   fmt::print("starting {} firmware: {}\n", opt.target.name, firmware);
   const hil::LinkKey key = hil::link_key_from(opt.target.key_file);
   hil::FirmwareProcess fw(opt.target.name, firmware, key, opt.log);
@@ -193,7 +194,7 @@ int run_ping(const PingOptions& opt) {
 }
 
 struct QpCheckOptions {
-  hil::apps::TargetOptions target{"qemu", "", ""};
+  hil::apps::TargetOptions target{"qemu", "default", "", ""};
   std::vector<std::string> files;
   double tolerance = 1e-9;
   int timeout_ms = 20000;
@@ -334,6 +335,7 @@ int main(int argc, char** argv) {
   PingOptions ping;
   auto* ping_cmd = app.add_subcommand("ping", "Boot a firmware and exchange Ping/Pong over the link");
   hil::apps::add_target_option(*ping_cmd, ping.target, {"host", "qemu"});
+  hil::apps::add_config_option(*ping_cmd, ping.target);
   hil::apps::add_firmware_option(*ping_cmd, ping.target);
   ping_cmd->add_option("--log", ping.log, "File for the firmware's log lines");
   hil::apps::add_key_option(*ping_cmd, ping.target);

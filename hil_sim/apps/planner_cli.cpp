@@ -1,6 +1,7 @@
 // planner_cli: run the planner on one scene/1 file.
 //   planner_cli decide SCENE.json [--svg OUT.svg]   zones, kept decisions, costs, the chosen corridor
 //   planner_cli plan SCENE.json [--svg OUT.svg] [--dump-qp DIR]   plan/1 JSON
+//   (both with --config default|road: the planner configuration, sim/sim_config.hpp)
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <fmt/ranges.h>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <type_traits>
 
 #include "apps/common_options.hpp"
 #include "formats/plan_json.hpp"
@@ -36,6 +38,7 @@ struct Options {
   double now = 0;
   std::string prediction = "truth";
   int indent = 2;
+  std::string config = "default";  // default | road
 };
 
 std::uint64_t host_ticks() {
@@ -59,7 +62,8 @@ struct QpDumper {
   }
 };
 
-json decision_json(const itp::planner::Planner& planner) {
+template <class Cfg>
+json decision_json(const itp::planner::BasicPlanner<Cfg>& planner) {
   const auto& stage = planner.decision_stage();
   const auto& space = stage.space();
   json zones = json::array();
@@ -117,6 +121,7 @@ json decision_json(const itp::planner::Planner& planner) {
           {"chosen", planner.chosen_decision()}};
 }
 
+template <class Cfg>
 int run(const Options& opt, bool decide_only) {
   const auto loaded = hil::sim::load_scene(opt.scene_file);  // scene/1, or CommonRoad XML imported
   if (!loaded.world) {
@@ -124,18 +129,18 @@ int run(const Options& opt, bool decide_only) {
     return 2;
   }
   const hil::sim::World& world = *loaded.world;
-  auto scene = std::make_unique<itp::scene::Scene>();
+  auto scene = std::make_unique<itp::scene::BasicScene<Cfg>>();
   const auto mode = hil::apps::prediction_mode(opt.prediction);
   const auto conv = hil::sim::make_planner_scene(world, hil::sim::ego_at_start(world), opt.now, mode, *scene);
   if (!conv.ok) {
     fmt::print(stderr, "planner_cli: {}: {}\n", opt.scene_file, conv.error);
     return 2;
   }
-  auto planner = std::make_unique<itp::planner::Planner>();
-  auto plan = std::make_unique<itp::planner::Plan>();
+  auto planner = std::make_unique<itp::planner::BasicPlanner<Cfg>>();
+  auto plan = std::make_unique<itp::planner::BasicPlan<Cfg>>();
   planner->set_tick_source(itp::TickSource{&host_ticks, 1000000000u});
   QpDumper dumper{opt.dump_dir, 0, {}};
-  itp::qp::PlannerQpObserver observer;
+  typename itp::planner::BasicPlanner<Cfg>::QpObserver observer;
   if (!opt.dump_dir.empty()) {
     std::filesystem::create_directories(opt.dump_dir);
     observer.context = &dumper;
@@ -144,7 +149,7 @@ int run(const Options& opt, bool decide_only) {
     observer.speed = [](void* c, const auto& p) { static_cast<QpDumper*>(c)->write("speed", p); };
     planner->set_qp_observer(&observer);
   }
-  planner->plan(itp::planner::PlanRequest{scene.get(), opt.now}, *plan);
+  planner->plan(itp::planner::BasicPlanRequest<Cfg>{scene.get(), opt.now}, *plan);
 
   json out = decide_only ? decision_json(*planner) : hil::formats::plan_to_json(*plan);
   if (!decide_only) {
@@ -155,7 +160,7 @@ int run(const Options& opt, bool decide_only) {
     }
     const auto& b = planner->speed_bounds();
     json bounds = json::array();
-    for (int k = 0; k < itp::DefaultConfig::kStSamples; k += 5) {
+    for (int k = 0; k < Cfg::kStSamples; k += 5) {
       const auto u = static_cast<std::size_t>(k);
       bounds.push_back({{"t", 0.1 * k}, {"s_lo", b.s_lo[u]}, {"s_hi", std::isfinite(b.s_hi[u]) ? json(b.s_hi[u]) : json(nullptr)},
                         {"v_lo", b.v_lo[u]}, {"v_hi", b.v_hi[u]}, {"s_ref", b.s_ref[u]}});
@@ -322,6 +327,9 @@ void add_common(CLI::App* cmd, Options& opt) {
   cmd->add_option("--now", opt.now, "Plan at this time of the scene [s] (obstacles move on)")->capture_default_str();
   hil::apps::add_prediction_option(*cmd, opt.prediction);
   cmd->add_option("--indent", opt.indent, "JSON indentation (-1: one line)")->capture_default_str();
+  cmd->add_option("--config", opt.config, "Planner configuration: default (10 + 5 objects) or road (32 + 32)")
+      ->check(CLI::IsMember({"default", "road"}))
+      ->capture_default_str();
 }
 
 }  // namespace
@@ -350,7 +358,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (*batch) return run_batch(batch_opt);
-    return *decide ? run(decide_opt, true) : run(plan_opt, false);
+    const Options& opt = *decide ? decide_opt : plan_opt;
+    const auto config = hil::sim::parse_sim_config(opt.config).value_or(hil::sim::SimConfig::kDefault);
+    return hil::sim::with_config(config, [&]<class Cfg>(std::type_identity<Cfg>) { return run<Cfg>(opt, static_cast<bool>(*decide)); });
   } catch (const std::exception& e) {
     fmt::print(stderr, "planner_cli: {}\n", e.what());
     return 2;

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <type_traits>
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -46,6 +47,7 @@ void add_run_options(CLI::App& cmd, RunCommand& run) {
       ->capture_default_str();
   add_generator_options(cmd, run.count, run.seed);
   add_target_option(cmd, run.target, {"inproc", "host", "qemu"});
+  add_config_option(cmd, run.target);
   add_firmware_option(cmd, run.target);
   add_prediction_option(cmd, run.prediction);
   cmd.add_option("--report", run.report, "Write report/1 JSON here");
@@ -94,6 +96,10 @@ class Progress {
   int last_decile_ = 0;
 };
 
+// Everything after loading the worlds, with the planner of configuration Cfg.
+template <class Cfg>
+int run_worlds(const RunCommand& cmd, const std::vector<World>& worlds);
+
 }  // namespace
 
 int run_command(const RunCommand& cmd) {
@@ -122,7 +128,14 @@ int run_command(const RunCommand& cmd) {
     fmt::print(stderr, "hil_sim run: unknown suite '{}' (known: default, stress)\n", cmd.suite);
     return 2;
   }
+  return sim::with_config(sim_config(cmd.target),
+                          [&]<class Cfg>(std::type_identity<Cfg>) { return run_worlds<Cfg>(cmd, worlds); });
+}
 
+namespace {
+
+template <class Cfg>
+int run_worlds(const RunCommand& cmd, const std::vector<World>& worlds) {
   // Endpoint.
   std::string why;
   sim::LinkOptions link;
@@ -139,7 +152,7 @@ int run_command(const RunCommand& cmd) {
     fmt::print(stderr, "hil_sim run: --link-faults needs a link (--target host or qemu)\n");
     return 2;
   }
-  const std::unique_ptr<sim::PlannerEndpoint> endpoint = make_endpoint(cmd.target, link, why);
+  const std::unique_ptr<sim::BasicPlannerEndpoint<Cfg>> endpoint = make_endpoint<Cfg>(cmd.target, link, why);
   if (!endpoint) {
     fmt::print(stderr, "hil_sim run: cannot use target '{}'{}\n", cmd.target.name, why.empty() ? "" : ": " + why);
     return 2;
@@ -158,7 +171,8 @@ int run_command(const RunCommand& cmd) {
     }
   }
 
-  fmt::print("hil_sim run: {} scenes, target {}, prediction {}{}\n", worlds.size(), endpoint->name(),
+  fmt::print("hil_sim run: {} scenes, target {}, config {}, prediction {}{}\n", worlds.size(), endpoint->name(),
+             sim::to_string(sim::sim_config_of<Cfg>()),
              opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity",
              link.faults.any() ? ", link faults " + to_string(link.faults) : std::string());
   std::fflush(stdout);
@@ -195,6 +209,7 @@ int run_command(const RunCommand& cmd) {
   }
 
   json rep = suite.report(endpoint->name());
+  rep["config"] = sim::to_string(sim::sim_config_of<Cfg>());
   const json link_stats = endpoint->link_statistics();
   if (!link_stats.is_null()) rep["link"] = link_stats;
   fmt::print("{}", sim::summary_table(rep));
@@ -254,4 +269,5 @@ int run_command(const RunCommand& cmd) {
   return 0;
 }
 
+}  // namespace
 }  // namespace hil::apps

@@ -21,7 +21,7 @@ struct RunCommand {
   std::string suite = "default";
   int count = 200;
   std::uint64_t seed = 1;
-  TargetOptions target;                  // inproc | host | qemu, firmware, link key
+  TargetOptions target;                  // inproc | host | qemu, configuration, firmware, link key
   std::string prediction = "cv";         // cv | truth
   std::string report;                    // report/1 path ("" = none)
   std::string plots;                     // directory for SVGs and index.html ("" = none)

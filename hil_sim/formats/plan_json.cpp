@@ -1,5 +1,7 @@
 #include "formats/plan_json.hpp"
 
+#include "itp/configurations.hpp"
+
 namespace hil::formats {
 
 const char* lateral_name(itp::planner::LateralSide side) {
@@ -11,7 +13,8 @@ const char* lateral_name(itp::planner::LateralSide side) {
   return "none";
 }
 
-nlohmann::json plan_to_json(const itp::planner::Plan& plan) {
+template <class Cfg>
+nlohmann::json plan_to_json(const itp::planner::BasicPlan<Cfg>& plan) {
   using nlohmann::json;
   json j;
   j["format"] = "plan/1";
@@ -57,5 +60,10 @@ nlohmann::json plan_to_json(const itp::planner::Plan& plan) {
   j["qp"] = {{"solves", plan.qp_solves}, {"iterations", plan.qp_iterations}};
   return j;
 }
+
+#define HIL_FORMATS_INSTANTIATE_PLAN_JSON(Cfg) \
+  template nlohmann::json plan_to_json<Cfg>(const itp::planner::BasicPlan<Cfg>&);
+ITP_FOR_EACH_CONFIG(HIL_FORMATS_INSTANTIATE_PLAN_JSON)
+#undef HIL_FORMATS_INSTANTIATE_PLAN_JSON
 
 }  // namespace hil::formats

@@ -16,7 +16,8 @@ namespace {
 
 constexpr double kDefaultDuration = 12.0;  // [s]
 
-std::vector<TrajectoryPoint> to_track(const itp::planner::Plan& plan) {
+template <class Cfg>
+std::vector<TrajectoryPoint> to_track(const itp::planner::BasicPlan<Cfg>& plan) {
   std::vector<TrajectoryPoint> out;
   out.reserve(plan.trajectory.size());
   for (const auto& p : plan.trajectory) {
@@ -92,13 +93,14 @@ Contact contact(const StepSample& x) {
 // Picks the cycles worth a look while the scene runs (see CycleSnapshot): the
 // first problem (fallback / invalid input / link error), and the cycle before
 // the first collision or, without one, the cycle before the smallest clearance.
+template <class Cfg>
 class SnapshotPicker {
  public:
   explicit SnapshotPicker(bool enabled) : enabled_(enabled) {}
 
-  void remember(int cycle, double now, const itp::scene::Scene& scene) {
+  void remember(int cycle, double now, const itp::scene::BasicScene<Cfg>& scene) {
     if (!enabled_) return;
-    history_.push_back({cycle, now, std::make_shared<const itp::scene::Scene>(scene)});
+    history_.push_back({cycle, now, std::make_shared<const itp::scene::BasicScene<Cfg>>(scene)});
     while (history_.size() > 3) history_.pop_front();
   }
   void first_problem(int cycle, const std::string& why) {
@@ -126,14 +128,14 @@ class SnapshotPicker {
   struct Entry {
     int cycle;
     double now;
-    std::shared_ptr<const itp::scene::Scene> scene;
+    SceneRef<Cfg> scene;
   };
   std::optional<CycleSnapshot> make(int cycle, const std::string& why) const {
     CycleSnapshot shot;
     shot.cycle = cycle;
     shot.why = why;
     for (const Entry& e : history_) {
-      if (e.cycle == cycle - 1 || e.cycle == cycle) shot.scenes.emplace_back(e.now, e.scene);
+      if (e.cycle == cycle - 1 || e.cycle == cycle) shot.scenes.emplace_back(e.now, AnySceneRef(e.scene));
       if (e.cycle == cycle) shot.now = e.now;
     }
     if (shot.scenes.empty()) return std::nullopt;
@@ -149,7 +151,8 @@ class SnapshotPicker {
 
 }  // namespace
 
-SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const RunOptions& opt) {
+template <class Cfg>
+SceneRunResult run_scene(const World& world, BasicPlannerEndpoint<Cfg>& endpoint, const RunOptions& opt) {
   SceneRunResult result;
   SceneMetrics metrics(world.name, world.tags);
   VehicleParams vp;
@@ -158,13 +161,13 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
   vp.width = world.ego.width;
   TrackingController controller(vp, opt.gains);
   VehicleState state = vehicle_from_ego(world.ego, vp);
-  SnapshotPicker picker(opt.keep_snapshot);
+  SnapshotPicker<Cfg> picker(opt.keep_snapshot);
 
   const double duration = opt.duration > 0 ? opt.duration : world.duration.value_or(kDefaultDuration);
   const double dt = opt.cycle > 0 ? opt.cycle : 0.1;
   const int n_cycles = std::max(0, static_cast<int>(std::lround(duration / dt)));
-  auto scene = std::make_unique<itp::scene::Scene>();
-  auto plan = std::make_unique<itp::planner::Plan>();
+  auto scene = std::make_unique<itp::scene::BasicScene<Cfg>>();
+  auto plan = std::make_unique<itp::planner::BasicPlan<Cfg>>();
   result.cycles.reserve(static_cast<std::size_t>(n_cycles));
   result.trace.reserve(static_cast<std::size_t>(n_cycles) + 1);
 
@@ -277,5 +280,10 @@ SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const Ru
   result.snapshots = picker.take();
   return result;
 }
+
+#define HIL_SIM_INSTANTIATE_RUN_SCENE(Cfg) \
+  template SceneRunResult run_scene<Cfg>(const World&, BasicPlannerEndpoint<Cfg>&, const RunOptions&);
+HIL_SIM_FOR_EACH_CONFIG(HIL_SIM_INSTANTIATE_RUN_SCENE)
+#undef HIL_SIM_INSTANTIATE_RUN_SCENE
 
 }  // namespace hil::sim

@@ -18,6 +18,7 @@
 #include "sim/metrics.hpp"
 #include "sim/planner_endpoint.hpp"
 #include "sim/scene_convert.hpp"
+#include "sim/sim_config.hpp"
 #include "sim/svg.hpp"
 #include "sim/vehicle_model.hpp"
 #include "sim/world.hpp"
@@ -71,8 +72,9 @@ struct CycleSnapshot {
   int cycle = -1;
   double now = 0.0;          // [s]
   std::string why;           // "collision", "fallback: blocked", "min clearance 0.53 m", ...
-  // Scenes to replay in order (the previous cycle's first, when there was one).
-  std::vector<std::pair<double, std::shared_ptr<const itp::scene::Scene>>> scenes;
+  // Scenes to replay in order (the previous cycle's first, when there was
+  // one), all of the configuration the run planned with.
+  std::vector<std::pair<double, AnySceneRef>> scenes;
 };
 
 struct SceneRunResult {
@@ -87,7 +89,10 @@ struct SceneRunResult {
 // throws: an exception from the endpoint or a world the planner cannot be
 // given at all (no reference line) ends the scene as crashed (summary.crashed,
 // error). Capacity does not: the scene keeps the most relevant obstacles and
-// the cycle counts the others (CycleRecord::left_out).
-SceneRunResult run_scene(const World& world, PlannerEndpoint& endpoint, const RunOptions& options);
+// the cycle counts the others (CycleRecord::left_out). The world becomes
+// Scenes of the endpoint's configuration (up to its capacities; the rest is
+// left out and counted). Compiled for HIL_SIM_FOR_EACH_CONFIG.
+template <class Cfg>
+SceneRunResult run_scene(const World& world, BasicPlannerEndpoint<Cfg>& endpoint, const RunOptions& options);
 
 }  // namespace hil::sim

@@ -14,7 +14,8 @@ std::uint64_t steady_ns() {
 
 }  // namespace
 
-InprocEndpoint::InprocEndpoint() : planner_(std::make_unique<itp::planner::Planner>()) {
+template <class Cfg>
+BasicInprocEndpoint<Cfg>::BasicInprocEndpoint() : planner_(std::make_unique<Planner>()) {
   planner_->set_tick_source(itp::TickSource{&steady_ns, 1000000000u});
 }
 
@@ -22,10 +23,15 @@ InprocEndpoint::InprocEndpoint() : planner_(std::make_unique<itp::planner::Plann
 // every scene is independent of the order of the suite: `--scene X` and the
 // same scene inside a suite agree (the firmware targets do the same on the
 // Scene message's reset flag).
-void InprocEndpoint::reset() { planner_->reset(); }
+template <class Cfg>
+void BasicInprocEndpoint<Cfg>::reset() {
+  planner_->reset();
+}
 
-EndpointResult InprocEndpoint::plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) {
-  planner_->plan(itp::planner::PlanRequest{&scene, now}, out);
+template <class Cfg>
+EndpointResult BasicInprocEndpoint<Cfg>::plan(const itp::scene::BasicScene<Cfg>& scene, double now,
+                                              itp::planner::BasicPlan<Cfg>& out) {
+  planner_->plan(itp::planner::BasicPlanRequest<Cfg>{&scene, now}, out);
   EndpointResult r;
   r.ok = true;
   if (out.timing.tick_hz > 0) {
@@ -33,5 +39,9 @@ EndpointResult InprocEndpoint::plan(const itp::scene::Scene& scene, double now, 
   }
   return r;
 }
+
+#define HIL_SIM_INSTANTIATE_INPROC(Cfg) template class BasicInprocEndpoint<Cfg>;
+HIL_SIM_FOR_EACH_CONFIG(HIL_SIM_INSTANTIATE_INPROC)
+#undef HIL_SIM_INSTANTIATE_INPROC
 
 }  // namespace hil::sim

@@ -1,6 +1,8 @@
 #include "sim/link_endpoint.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <vector>
 
 #include "itp/link/crc32.hpp"
@@ -9,6 +11,7 @@
 #include "link/fault_injection.hpp"
 #include "link/firmware_process.hpp"
 #include "link/link_client.hpp"
+#include "sim/scene_convert.hpp"
 
 namespace hil::sim {
 namespace {
@@ -26,7 +29,16 @@ ClientPacing pacing_for(const std::string& target) {
   return p;
 }
 
-class LinkEndpoint final : public PlannerEndpoint {
+// The predictions the qemu target sends: every stride-th sample, the largest
+// stride that keeps them at most 0.5 s apart (default configuration: every
+// 5th of 0.1 s; road: every 2nd of 0.2 s).
+template <class Cfg>
+int qemu_prediction_stride() {
+  return std::max(1, static_cast<int>(std::floor(0.5 / prediction_step<Cfg>() + 1e-9)));
+}
+
+template <class Cfg>
+class LinkEndpoint final : public BasicPlannerEndpoint<Cfg> {
  public:
   LinkEndpoint(std::string target, const std::string& firmware, const LinkOptions& options)
       : target_(std::move(target)),
@@ -41,15 +53,15 @@ class LinkEndpoint final : public PlannerEndpoint {
 
   void reset() override { reset_next_ = true; }
 
-  EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) override {
+  EndpointResult plan(const itp::scene::BasicScene<Cfg>& scene, double now, itp::planner::BasicPlan<Cfg>& out) override {
     EndpointResult res;
     itp::link::SceneHeader header;
     header.cycle = ++cycle_;
     header.now = now;
     header.reset = reset_next_;
-    // The UART under QEMU is slow: thin the predictions to every 0.5 s (the
-    // planner interpolates); the host link sends them all.
-    const int stride = target_ == "qemu" ? 5 : 1;
+    // The UART under QEMU is slow: thin the predictions to every 0.5 s or
+    // less (the planner interpolates); the host link sends them all.
+    const int stride = target_ == "qemu" ? qemu_prediction_stride<Cfg>() : 1;
     const std::size_t n = itp::link::encode_scene(header, scene, stride, body_);
     if (n == 0) {
       res.error = "scene does not fit a link message";
@@ -130,21 +142,26 @@ class LinkEndpoint final : public PlannerEndpoint {
   std::unique_ptr<FaultyTransport> faulty_;
   LinkClient client_;
   std::chrono::milliseconds deadline_;
-  std::array<std::uint8_t, itp::link::kMaxSceneBytes<itp::DefaultConfig>> body_{};
+  std::array<std::uint8_t, itp::link::kMaxSceneBytes<Cfg>> body_{};
   std::uint32_t cycle_ = 0;
   bool reset_next_ = true;
 };
 
 }  // namespace
 
-std::unique_ptr<PlannerEndpoint> make_link_endpoint(const std::string& target, const std::string& firmware,
-                                                    std::string* error, const LinkOptions& options) {
+std::string default_firmware(const std::string& target, SimConfig config) {
+  const bool road = config == SimConfig::kRoad;
+  if (target == "qemu") return road ? ITP_DEFAULT_QEMU_ROAD_FIRMWARE : ITP_DEFAULT_QEMU_FIRMWARE;
+  return road ? ITP_DEFAULT_HOST_ROAD_FIRMWARE : ITP_DEFAULT_HOST_FIRMWARE;
+}
+
+template <class Cfg>
+std::unique_ptr<BasicPlannerEndpoint<Cfg>> make_link_endpoint(const std::string& target, const std::string& firmware,
+                                                              std::string* error, const LinkOptions& options) {
   try {
-    if (target == "qemu") {
-      return std::make_unique<LinkEndpoint>(target, firmware.empty() ? ITP_DEFAULT_QEMU_FIRMWARE : firmware, options);
-    }
-    if (target == "host") {
-      return std::make_unique<LinkEndpoint>(target, firmware.empty() ? ITP_DEFAULT_HOST_FIRMWARE : firmware, options);
+    if (target == "qemu" || target == "host") {
+      const std::string image = firmware.empty() ? default_firmware(target, sim_config_of<Cfg>()) : firmware;
+      return std::make_unique<LinkEndpoint<Cfg>>(target, image, options);
     }
     if (error != nullptr) *error = "unknown target '" + target + "'";
   } catch (const std::exception& e) {
@@ -152,5 +169,12 @@ std::unique_ptr<PlannerEndpoint> make_link_endpoint(const std::string& target, c
   }
   return nullptr;
 }
+
+#define HIL_SIM_INSTANTIATE_LINK(Cfg)                                                                        \
+  template std::unique_ptr<BasicPlannerEndpoint<Cfg>> make_link_endpoint<Cfg>(const std::string&,         \
+                                                                              const std::string&, std::string*, \
+                                                                              const LinkOptions&);
+HIL_SIM_FOR_EACH_CONFIG(HIL_SIM_INSTANTIATE_LINK)
+#undef HIL_SIM_INSTANTIATE_LINK
 
 }  // namespace hil::sim

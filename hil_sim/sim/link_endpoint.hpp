@@ -20,9 +20,18 @@ struct LinkOptions {
   hil::LinkFaults faults{};  // bytes dropped, duplicated, flipped, reordered on the way (both directions)
 };
 
-// target "host" or "qemu"; `firmware` "" uses this build's default. Returns
-// nullptr (and fills `error`) if the target cannot be started.
-std::unique_ptr<PlannerEndpoint> make_link_endpoint(const std::string& target, const std::string& firmware,
-                                                    std::string* error = nullptr, const LinkOptions& options = {});
+// This build's firmware for `target` ("host": the host-port executable,
+// "qemu": the Cortex-M7 ELF) planning with `config` (the road image for
+// SimConfig::kRoad).
+std::string default_firmware(const std::string& target, SimConfig config);
+
+// target "host" or "qemu"; `firmware` "" uses this build's firmware of
+// configuration Cfg (default_firmware). The firmware must plan with Cfg: the
+// Scene and Plan messages are sized by it. Returns nullptr (and fills
+// `error`) if the target cannot be started. Compiled for HIL_SIM_FOR_EACH_CONFIG.
+template <class Cfg = itp::DefaultConfig>
+std::unique_ptr<BasicPlannerEndpoint<Cfg>> make_link_endpoint(const std::string& target, const std::string& firmware,
+                                                              std::string* error = nullptr,
+                                                              const LinkOptions& options = {});
 
 }  // namespace hil::sim

@@ -27,7 +27,8 @@ std::vector<Point2> rect(double s0, double s1, double l0, double l1) {
 
 }  // namespace
 
-std::string plot_sl(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
+template <class Cfg>
+std::string plot_sl(const itp::planner::BasicPlanner<Cfg>& planner, const itp::scene::BasicScene<Cfg>& scene,
                     const std::string& title) {
   const double s0 = planner.path_start();
   const double s1 = s0 + planner.path_length();
@@ -101,8 +102,9 @@ std::string plot_sl(const itp::planner::Planner& planner, const itp::scene::Scen
   return c.str();
 }
 
-std::string plot_xy(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
-                    const itp::planner::Plan& plan, double now, const std::string& title) {
+template <class Cfg>
+std::string plot_xy(const itp::planner::BasicPlanner<Cfg>& planner, const itp::scene::BasicScene<Cfg>& scene,
+                    const itp::planner::BasicPlan<Cfg>& plan, double now, const std::string& title) {
   const auto& line = planner.reference_line();
   double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
   std::vector<Point2> left, right, ref;
@@ -161,20 +163,21 @@ std::string plot_xy(const itp::planner::Planner& planner, const itp::scene::Scen
   return c.str();
 }
 
-std::string plot_st(const itp::planner::Planner& planner, const itp::planner::Plan& plan,
+template <class Cfg>
+std::string plot_st(const itp::planner::BasicPlanner<Cfg>& planner, const itp::planner::BasicPlan<Cfg>& plan,
                     const std::string& title) {
   const auto& bounds = planner.speed_bounds();
   double s_max = 10;
   for (const auto& p : plan.trajectory) s_max = std::max(s_max, p.s - planner.path_start());
   for (double v : bounds.s_ref) s_max = std::max(s_max, v);
   Canvas c(1400, 380);
-  c.set_view(0, itp::DefaultConfig::kSpeedHorizon, 0, s_max * 1.1, false);
+  c.set_view(0, Cfg::kSpeedHorizon, 0, s_max * 1.1, false);
   c.title(title);
   c.axes("t [s]", "s [m] travelled along the path");
   c.begin_clip();
-  const double dt = itp::DefaultConfig::kSpeedHorizon / itp::DefaultConfig::kSpeedSamples;
+  const double dt = Cfg::kSpeedHorizon / Cfg::kSpeedSamples;
   for (const auto& d : planner.st_graph().decisions()) {
-    for (int k = 0; k < itp::DefaultConfig::kStSamples; ++k) {
+    for (int k = 0; k < Cfg::kStSamples; ++k) {
       const auto u = static_cast<std::size_t>(k);
       if (!d.conflict[u]) continue;
       c.polygon(std::vector<Point2>{{k * dt, d.s_lo[u]}, {k * dt + dt, d.s_lo[u]}, {k * dt + dt, d.s_hi[u]}, {k * dt, d.s_hi[u]}},
@@ -182,7 +185,7 @@ std::string plot_st(const itp::planner::Planner& planner, const itp::planner::Pl
     }
   }
   std::vector<Point2> hi, lo, ref, s;
-  for (int k = 0; k < itp::DefaultConfig::kStSamples; ++k) {
+  for (int k = 0; k < Cfg::kStSamples; ++k) {
     const auto u = static_cast<std::size_t>(k);
     if (std::isfinite(bounds.s_hi[u])) hi.push_back({k * dt, bounds.s_hi[u]});
     lo.push_back({k * dt, bounds.s_lo[u]});
@@ -202,6 +205,16 @@ std::string plot_st(const itp::planner::Planner& planner, const itp::planner::Pl
   c.legend(legend);
   return c.str();
 }
+
+#define HIL_SIM_INSTANTIATE_PLOTS(Cfg)                                                                        \
+  template std::string plot_sl<Cfg>(const itp::planner::BasicPlanner<Cfg>&, const itp::scene::BasicScene<Cfg>&, \
+                                    const std::string&);                                                      \
+  template std::string plot_xy<Cfg>(const itp::planner::BasicPlanner<Cfg>&, const itp::scene::BasicScene<Cfg>&, \
+                                    const itp::planner::BasicPlan<Cfg>&, double, const std::string&);          \
+  template std::string plot_st<Cfg>(const itp::planner::BasicPlanner<Cfg>&, const itp::planner::BasicPlan<Cfg>&, \
+                                    const std::string&);
+HIL_SIM_FOR_EACH_CONFIG(HIL_SIM_INSTANTIATE_PLOTS)
+#undef HIL_SIM_INSTANTIATE_PLOTS
 
 std::string stack_svgs(const std::vector<std::string>& svgs) {
   double width = 0;

@@ -8,15 +8,20 @@
 
 #include "itp/planner/planner.hpp"
 #include "itp/scene/scene.hpp"
+#include "sim/sim_config.hpp"
 
 namespace hil::sim {
 
-std::string plot_sl(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
+// Templates on the planner configuration, compiled for HIL_SIM_FOR_EACH_CONFIG.
+template <class Cfg>
+std::string plot_sl(const itp::planner::BasicPlanner<Cfg>& planner, const itp::scene::BasicScene<Cfg>& scene,
                     const std::string& title);
 // `now`: the scene time the plan was made at (obstacles are drawn at now + t).
-std::string plot_xy(const itp::planner::Planner& planner, const itp::scene::Scene& scene,
-                    const itp::planner::Plan& plan, double now, const std::string& title);
-std::string plot_st(const itp::planner::Planner& planner, const itp::planner::Plan& plan,
+template <class Cfg>
+std::string plot_xy(const itp::planner::BasicPlanner<Cfg>& planner, const itp::scene::BasicScene<Cfg>& scene,
+                    const itp::planner::BasicPlan<Cfg>& plan, double now, const std::string& title);
+template <class Cfg>
+std::string plot_st(const itp::planner::BasicPlanner<Cfg>& planner, const itp::planner::BasicPlan<Cfg>& plan,
                     const std::string& title);
 
 // Several SVG documents stacked vertically into one.

@@ -3,7 +3,9 @@
 // returns a Plan. `inproc` calls the planner directly (and, to exercise the
 // framing, may pass the bytes through a loopback link); `host` and `qemu`
 // send a Scene message over the serial-like link to a firmware and decode
-// its Plan message (hil_sim/link/, docs/protocol.md).
+// its Plan message (hil_sim/link/, docs/protocol.md). A class template on the
+// planner configuration (sim/sim_config.hpp), like the planner itself:
+// PlannerEndpoint is the default configuration's.
 #include <optional>
 #include <string>
 
@@ -12,6 +14,7 @@
 #include "itp/link/messages.hpp"
 #include "itp/planner/plan.hpp"
 #include "itp/scene/scene.hpp"
+#include "sim/sim_config.hpp"
 
 namespace hil::sim {
 
@@ -23,13 +26,15 @@ struct EndpointResult {
   double instructions = -1;   // qemu: instructions of the planning cycle (40 per tick); < 0 when not measured
 };
 
-class PlannerEndpoint {
+template <class Cfg>
+class BasicPlannerEndpoint {
  public:
-  virtual ~PlannerEndpoint() = default;
+  using Config = Cfg;
+  virtual ~BasicPlannerEndpoint() = default;
   // A new scene starts: the planner forgets its previous plan (no stitching across scenes).
   virtual void reset() = 0;
   // Plans one cycle at scene time `now` (the Scene's predictions are in scene time).
-  virtual EndpointResult plan(const itp::scene::Scene& scene, double now, itp::planner::Plan& out) = 0;
+  virtual EndpointResult plan(const itp::scene::BasicScene<Cfg>& scene, double now, itp::planner::BasicPlan<Cfg>& out) = 0;
   virtual std::string name() const = 0;  // "inproc", "host", "qemu"
   // The firmware's resource use (Diagnostics message); nullopt when the
   // endpoint has no firmware or it did not answer.
@@ -37,5 +42,7 @@ class PlannerEndpoint {
   // What the link counted over the run (report/1 key "link"); null without a link.
   virtual nlohmann::json link_statistics() const { return nullptr; }
 };
+
+using PlannerEndpoint = BasicPlannerEndpoint<itp::DefaultConfig>;
 
 }  // namespace hil::sim

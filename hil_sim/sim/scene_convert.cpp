@@ -14,7 +14,6 @@ namespace {
 
 constexpr double kBehind = 40.0;           // [m] of reference line kept behind the ego (rear traffic)
 constexpr double kAheadBeyondPath = 20.0;  // [m] kept ahead beyond the longest SL horizon
-constexpr double kPredictionStep = 0.1;    // [s]
 constexpr double kRelevantRange = 160.0;   // [m] obstacles farther from the ego are left out
 constexpr double kRelevanceStep = 0.5;     // [s] sampling of the relevance rule
 constexpr double kRelevanceBraking = 4.0;  // [m/s^2] the braking ego of the relevance rule
@@ -162,10 +161,7 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
   std::vector<Candidate<itp::scene::BasicDynamicObstacle<Cfg>>> dynamics;
   // Every 0.1 s, or the smallest multiple of it whose samples over the
   // horizon (+0.5 s) Cfg holds (the road configuration: 0.2 s).
-  double step = kPredictionStep;
-  while (std::lround((kHorizon + 0.5) / step) + 1 > Cfg::kMaxPredictionSamples) {  // a few turns
-    step += kPredictionStep;
-  }
+  const double step = prediction_step<Cfg>();
   const int steps = static_cast<int>(std::lround((kHorizon + 0.5) / step));
   for (const DynamicObstacle& o : w.dynamic_obstacles) {
     const std::optional<Pose> current = pose_at(o, now);

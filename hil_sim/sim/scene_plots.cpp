@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <memory>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include <fmt/core.h>
@@ -16,6 +18,36 @@ namespace {
 
 std::string fmt_opt(const std::optional<double>& x, const char* spec) {
   return x ? fmt::format(fmt::runtime(spec), *x) : std::string("-");
+}
+
+// The configuration of a BasicScene<Cfg>.
+template <class Scene>
+struct SceneConfig;
+template <class Cfg>
+struct SceneConfig<itp::scene::BasicScene<Cfg>> {
+  using type = Cfg;
+};
+
+// Re-plans the snapshot's cycle in-process (after its predecessor, for
+// stitching) with the planner of the scenes' configuration, and draws its SL,
+// XY and ST views.
+template <class Cfg>
+void replot_snapshot(const CycleSnapshot& shot, std::vector<std::string>& parts) {
+  auto planner = std::make_unique<itp::planner::BasicPlanner<Cfg>>();
+  auto plan = std::make_unique<itp::planner::BasicPlan<Cfg>>();
+  for (const auto& [now, any] : shot.scenes) {
+    planner->plan(itp::planner::BasicPlanRequest<Cfg>{std::get<SceneRef<Cfg>>(any).get(), now}, *plan);
+  }
+  const double now = shot.scenes.back().first;
+  const itp::scene::BasicScene<Cfg>& sc = *std::get<SceneRef<Cfg>>(shot.scenes.back().second);
+  const std::string head = fmt::format("cycle {} (t = {:.1f} s; {}), re-planned in-process: {}{}", shot.cycle, now,
+                                       shot.why, itp::to_string(plan->status),
+                                       plan->status == itp::PlanStatus::kFallback
+                                           ? std::string(" ") + itp::planner::to_string(plan->fallback)
+                                           : std::string());
+  parts.push_back(plot_sl(*planner, sc, "SL — " + head));
+  parts.push_back(plot_xy(*planner, sc, *plan, now, "XY — " + head));
+  parts.push_back(plot_st(*planner, *plan, "ST — " + head));
 }
 
 }  // namespace
@@ -70,19 +102,14 @@ std::string scene_run_svg(const World& world, const SceneRunResult& r) {
 
   for (const CycleSnapshot& shot : r.snapshots) {
     if (shot.scenes.empty()) continue;
-    // Re-plan the chosen cycle in-process (after its predecessor, for stitching).
-    auto planner = std::make_unique<itp::planner::Planner>();
-    auto plan = std::make_unique<itp::planner::Plan>();
-    for (const auto& [now, sc] : shot.scenes) planner->plan(itp::planner::PlanRequest{sc.get(), now}, *plan);
-    const auto& [now, sc] = shot.scenes.back();
-    const std::string head = fmt::format("cycle {} (t = {:.1f} s; {}), re-planned in-process: {}{}", shot.cycle, now,
-                                         shot.why, itp::to_string(plan->status),
-                                         plan->status == itp::PlanStatus::kFallback
-                                             ? std::string(" ") + itp::planner::to_string(plan->fallback)
-                                             : std::string());
-    parts.push_back(plot_sl(*planner, *sc, "SL — " + head));
-    parts.push_back(plot_xy(*planner, *sc, *plan, now, "XY — " + head));
-    parts.push_back(plot_st(*planner, *plan, "ST — " + head));
+    // The snapshot's scenes are of the configuration the run planned with:
+    // re-plan with that one.
+    std::visit(
+        [&](const auto& first) {
+          using Scene = std::remove_const_t<typename std::decay_t<decltype(first)>::element_type>;
+          replot_snapshot<typename SceneConfig<Scene>::type>(shot, parts);
+        },
+        shot.scenes.front().second);
   }
   return stack_svgs(parts);
 }

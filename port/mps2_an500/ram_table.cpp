@@ -3,10 +3,10 @@
 // single .bss symbol, so the ELF's symbol table cannot split it; this table
 // records sizeof() of its parts as the Cortex-M7 compiler lays them out, in a
 // section the linker script keeps out of memory (INFO: in the file only).
-// Built into both images (port/CMakeLists.txt): the production image's
-// table, and the test image's with its QP-check row (ITP_IMAGE_QP_CHECK).
-// Also the compile-time half of the production image's RAM budget: its
-// service alone must fit.
+// Built into every planner image (port/CMakeLists.txt): the production
+// images' tables (default and road configuration), and the test image's with
+// its QP-check row (ITP_IMAGE_QP_CHECK). Also the compile-time half of the
+// default production image's RAM budget: its service alone must fit.
 #include <cstdint>
 
 #include "../common/image_services.hpp"
@@ -36,7 +36,7 @@ constexpr std::uint32_t kControlBytes =
     size(sizeof(itp::link::Outbox<itp::link::kSegmentReportBytes>) + itp::link::kMaxWireFrameBytes);
 constexpr std::uint32_t kDecoderBytes = size(sizeof(itp::link::FrameDecoder));
 
-#if !defined(ITP_IMAGE_QP_CHECK)
+#if defined(ITP_RAM_BUDGET_BYTES)
 // ITP_RAM_BUDGET_BYTES: .data + .bss + stack, from port/mps2_an500/ram_budget.ld.
 static_assert(sizeof(Service) <= ITP_RAM_BUDGET_BYTES,
               "the firmware service alone exceeds the RAM budget (port/mps2_an500/ram_budget.ld)");

@@ -24,6 +24,7 @@ def main():
     ap.add_argument("--build", required=True, help="the cross build directory (.su/.ci files)")
     ap.add_argument("--analysis", required=True, help="tools/stack_analysis.py")
     ap.add_argument("--count", type=int, default=3, help="closed-loop scenes to run")
+    ap.add_argument("--config", default="default", help="the image's planner configuration (hil_sim run --config)")
     args = ap.parse_args()
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -37,7 +38,8 @@ def main():
         with open(bound_json, encoding="utf-8") as f:
             analysis = json.load(f)
         r = subprocess.run([args.hil_sim, "run", "--suite", "default", "--count", str(args.count), "--seed", "1",
-                            "--target", "qemu", "--firmware", args.elf, "--diagnostics", diag_json])
+                            "--target", "qemu", "--config", args.config, "--firmware", args.elf,
+                            "--diagnostics", diag_json])
         if r.returncode != 0:
             print(f"stack_paint_check: hil_sim run failed ({r.returncode})", file=sys.stderr)
             return 1

@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include <type_traits>
+
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -51,9 +53,9 @@ TEST_CASE("Scene and Plan messages round-trip within float precision") {
   CHECK_FALSE(itp::link::decode_scene(std::span<const std::uint8_t>(body.data(), m / 2), hb, *back));
 }
 
-TEST_CASE("a scene and a plan filled to capacity encode to the computed maximum sizes") {
-  using Cfg = itp::DefaultConfig;
-  auto scene = std::make_unique<itp::scene::Scene>();
+TEST_CASE_TEMPLATE("a scene and a plan filled to capacity encode to the computed maximum sizes", Cfg,
+                   itp::DefaultConfig, itp::RoadConfig) {
+  auto scene = std::make_unique<itp::scene::BasicScene<Cfg>>();
   while (scene->reference_line.push_back({static_cast<double>(scene->reference_line.size()), 0})) {
   }
   for (auto* b : {&scene->road.left, &scene->road.right}) {
@@ -70,7 +72,7 @@ TEST_CASE("a scene and a plan filled to capacity encode to the computed maximum 
   }
   std::vector<std::uint8_t> body(itp::link::kMaxSceneBytes<Cfg>);
   CHECK(itp::link::encode_scene({}, *scene, 1, body) == itp::link::kMaxSceneBytes<Cfg>);
-  auto plan = std::make_unique<itp::planner::Plan>();
+  auto plan = std::make_unique<itp::planner::BasicPlan<Cfg>>();
   while (plan->trajectory.push_back({})) {
   }
   while (plan->decisions.push_back({})) {
@@ -78,26 +80,55 @@ TEST_CASE("a scene and a plan filled to capacity encode to the computed maximum 
   CHECK(itp::link::encode_plan(itp::link::PlanHeader{}, *plan, body) == itp::link::kMaxPlanBytes<Cfg>);
   // One secured message holds the largest of either (checked at compile time as well).
   CHECK(itp::link::kMaxSceneBytes<Cfg> + itp::link::kSecuredOverhead <= itp::link::kMaxMessageBytes);
+  // docs/protocol.md states these sizes.
+  if constexpr (std::is_same_v<Cfg, itp::RoadConfig>) {
+    CHECK(itp::link::kMaxSceneBytes<Cfg> == 28426);
+    CHECK(itp::link::kMaxPlanBytes<Cfg> == 3098);
+  } else {
+    CHECK(itp::link::kMaxSceneBytes<Cfg> == 9947);
+    CHECK(itp::link::kMaxPlanBytes<Cfg> == 2755);
+  }
+  // At the smallest segment size the host shrinks to (32 bytes) the sealed
+  // Scene would need more than 255 segments: the sender takes larger ones
+  // (the fewest that fit 255), which the receiver accepts (<= 1024 bytes).
+  const std::size_t sealed = itp::link::kMaxSceneBytes<Cfg> + itp::link::kSecuredOverhead;
+  const std::size_t fewest = (sealed + itp::link::kMaxSegments - 1) / itp::link::kMaxSegments;
+  CHECK(fewest <= itp::link::kMaxSegmentBytes);
 }
 
-TEST_CASE("the host-port firmware plans generated scenes like the in-process planner") {
+// The road image (RoadConfig) gets 20 more cars on a parallel road 40 m to
+// the left, in range: up to 35 objects, a Scene of up to 20 KB (20 segments).
+TEST_CASE_TEMPLATE("the host-port firmware plans generated scenes like the in-process planner", Cfg, itp::DefaultConfig,
+                   itp::RoadConfig) {
+  constexpr bool kRoad = std::is_same_v<Cfg, itp::RoadConfig>;
   std::string error;
-  auto endpoint = make_link_endpoint("host", "", &error);
+  auto endpoint = make_link_endpoint<Cfg>("host", "", &error);
   REQUIRE_MESSAGE(endpoint != nullptr, error);
-  auto planner = std::make_unique<itp::planner::Planner>();
-  auto local = std::make_unique<itp::planner::Plan>();
-  auto remote = std::make_unique<itp::planner::Plan>();
-  auto scene = std::make_unique<itp::scene::Scene>();
+  auto planner = std::make_unique<itp::planner::BasicPlanner<Cfg>>();
+  auto local = std::make_unique<itp::planner::BasicPlan<Cfg>>();
+  auto remote = std::make_unique<itp::planner::BasicPlan<Cfg>>();
+  auto scene = std::make_unique<itp::scene::BasicScene<Cfg>>();
   int compared = 0;
   for (int i = 0; i < 6; ++i) {
-    const World w = generate_scene(11, i);
-    REQUIRE(make_planner_scene(w, ego_at_start(w), 0.0, Prediction::kConstantVelocity, *scene).ok);
+    World w = generate_scene(11, i);
+    for (int k = 0; kRoad && k < 20; ++k) {
+      DynamicObstacle d;
+      d.id = 200 + k;
+      d.length = 4.5;
+      d.width = 1.8;
+      d.trajectory.push_back({0.0, 7.5 * k, 40.0, 0.0, 10.0});
+      w.dynamic_obstacles.push_back(d);
+    }
+    const ConvertResult conv = make_planner_scene(w, ego_at_start(w), 0.0, Prediction::kConstantVelocity, *scene);
+    REQUIRE(conv.ok);
+    if (kRoad) CHECK(conv.left_out() == 0);
     // The in-process planner gets the scene as the firmware sees it (float on the wire).
-    std::vector<std::uint8_t> body(itp::link::kMaxSceneBytes<itp::DefaultConfig>);
+    std::vector<std::uint8_t> body(itp::link::kMaxSceneBytes<Cfg>);
     const std::size_t n = itp::link::encode_scene({1, 0.0, true}, *scene, 1, body);
     itp::link::SceneHeader h;
-    auto wire = std::make_unique<itp::scene::Scene>();
+    auto wire = std::make_unique<itp::scene::BasicScene<Cfg>>();
     REQUIRE(itp::link::decode_scene(std::span<const std::uint8_t>(body.data(), n), h, *wire));
+    if (kRoad) CHECK(wire->dynamic_obstacles.size() >= 20);  // the parallel road's cars all arrive
     planner->reset();
     planner->plan({wire.get(), 0.0}, *local);
     endpoint->reset();

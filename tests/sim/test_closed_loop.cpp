@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -371,4 +372,86 @@ TEST_CASE("closed loop: more traffic in range than the scene holds never ends th
   REQUIRE(rep.contains("obstacles_left_out"));
   CHECK(rep["obstacles_left_out"]["total"] == 120);
   CHECK(rep["per_scene"][0]["obstacles_left_out"]["cycles"] == 30);
+}
+
+namespace {
+
+// The in-process planner of configuration Cfg, counting the objects of the
+// Scenes it is given.
+template <class Cfg>
+class ObjectCountingEndpoint final : public BasicPlannerEndpoint<Cfg> {
+ public:
+  void reset() override { inner_.reset(); }
+  EndpointResult plan(const itp::scene::BasicScene<Cfg>& scene, double now, itp::planner::BasicPlan<Cfg>& out) override {
+    const int n = static_cast<int>(scene.static_obstacles.size() + scene.dynamic_obstacles.size());
+    min_objects = std::min(min_objects, n);
+    max_objects = std::max(max_objects, n);
+    return inner_.plan(scene, now, out);
+  }
+  std::string name() const override { return "counting"; }
+  int min_objects = 1 << 30;
+  int max_objects = 0;
+
+ private:
+  BasicInprocEndpoint<Cfg> inner_;
+};
+
+}  // namespace
+
+TEST_CASE("closed loop --config road: 24 objects in range are all planned with; the default configuration leaves 9 out") {
+  // A three-lane road with 14 cars parked beside it (off the drivable area,
+  // all within range) and 10 cars driving along the two left lanes: 24
+  // objects, more than the default scene's 10 + 5, fewer than the road
+  // configuration's 32 + 32.
+  World w = straight_road(500.0, 10.0, 15.0);
+  w.road.left_boundary = Boundary::constant_at(8.75);
+  for (int i = 0; i < 14; ++i) {
+    w.static_obstacles.push_back({1 + i, 20.0 + 9.0 * i, -3.3, 0.0, 4.5, 1.8, "parked_car"});
+  }
+  for (int i = 0; i < 10; ++i) {
+    DynamicObstacle d;
+    d.id = 40 + i;
+    d.length = 4.5;
+    d.width = 1.8;
+    d.trajectory.push_back({0.0, 10.0 + 11.0 * i, i % 2 == 0 ? 3.5 : 7.0, 0.0, 11.0});
+    w.dynamic_obstacles.push_back(d);
+  }
+  RunOptions opt;
+  opt.duration = 3.0;
+
+  ObjectCountingEndpoint<itp::RoadConfig> road;
+  const SceneRunResult r = run_scene(w, road, opt);
+  CHECK(r.error.empty());
+  CHECK(r.summary.cycles == 30);
+  CHECK(r.summary.left_out_cycles == 0);
+  CHECK(r.summary.left_out_total == 0);
+  CHECK_FALSE(r.summary.collided());
+  CHECK_FALSE(r.summary.departed());
+  // Every cycle's Scene held all 24.
+  CHECK(road.min_objects == 24);
+  CHECK(road.max_objects == 24);
+
+  ObjectCountingEndpoint<itp::DefaultConfig> def;
+  const SceneRunResult d = run_scene(w, def, opt);
+  CHECK(d.error.empty());
+  CHECK(d.summary.left_out_cycles == 30);
+  CHECK(d.summary.left_out_max == (14 - itp::DefaultConfig::kMaxStaticObstacles) + (10 - itp::DefaultConfig::kMaxDynamicObstacles));
+  REQUIRE_FALSE(d.cycles.empty());
+  CHECK(d.cycles.front().left_out == 9);
+  CHECK(def.max_objects == 15);
+}
+
+TEST_CASE("closed loop --config road: snapshots hold road scenes and the plots re-plan them with the road planner") {
+  World w = generate_scene(1, 0);
+  BasicInprocEndpoint<itp::RoadConfig> ep;
+  RunOptions opt;
+  opt.duration = 2.0;
+  opt.keep_snapshot = true;
+  const SceneRunResult r = run_scene(w, ep, opt);
+  CHECK(r.error.empty());
+  REQUIRE_FALSE(r.snapshots.empty());
+  REQUIRE_FALSE(r.snapshots.back().scenes.empty());
+  CHECK(std::holds_alternative<SceneRef<itp::RoadConfig>>(r.snapshots.back().scenes.back().second));
+  const std::string svg = scene_run_svg(w, r);
+  CHECK(svg.find("re-planned in-process") != std::string::npos);
 }

@@ -245,3 +245,32 @@ TEST_CASE("the conversion takes its capacities from the receiving configuration"
   CHECK(length < static_cast<double>(itp::CompactConfig::kMaxPathLength) + 20.0 + 40.0 + 1.0);
   CHECK(length < static_cast<double>(itp::DefaultConfig::kMaxPathLength));
 }
+
+TEST_CASE("the road configuration: 32 + 32 objects and predictions every 0.2 s over the horizon") {
+  CHECK(prediction_step<itp::DefaultConfig>() == doctest::Approx(0.1));
+  CHECK(prediction_step<itp::RoadConfig>() == doctest::Approx(0.2));
+  World w = open_road();
+  for (int i = 0; i < 34; ++i) w.static_obstacles.push_back({i + 1, 20.0 + 4 * i, 7.5, 0.0, 1.0, 1.0, ""});
+  for (int i = 0; i < 20; ++i) {
+    DynamicObstacle d;
+    d.id = 100 + i;
+    d.length = 4.5;
+    d.width = 1.8;
+    d.trajectory.push_back({0.0, 15.0 + 6.0 * i, -3.5, 0.0, 8.0});
+    d.trajectory.push_back({12.0, 15.0 + 6.0 * i + 96.0, -3.5, 0.0, 8.0});
+    w.dynamic_obstacles.push_back(d);
+  }
+  auto s = std::make_unique<itp::scene::BasicScene<itp::RoadConfig>>();
+  const auto res = make_planner_scene(w, ego_at_start(w), 1.0, Prediction::kConstantVelocity, *s);
+  REQUIRE(res.ok);
+  CHECK(s->static_obstacles.size() == 32);
+  CHECK(res.static_left_out == 2);
+  CHECK(s->dynamic_obstacles.size() == 20);
+  CHECK(res.dynamic_left_out == 0);
+  const auto& p = s->dynamic_obstacles[0].trajectory;
+  REQUIRE(p.size() == 39);  // 0 ... 7.6 s every 0.2 s: the speed horizon + 0.5 s, within the 40 samples
+  CHECK(p[0].t == doctest::Approx(1.0));
+  CHECK(p[1].t - p[0].t == doctest::Approx(0.2));
+  CHECK(p[38].t == doctest::Approx(1.0 + 7.6));
+  CHECK(itp::scene::validate(*s).ok());
+}
