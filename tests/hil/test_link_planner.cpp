@@ -83,10 +83,10 @@ TEST_CASE_TEMPLATE("a scene and a plan filled to capacity encode to the computed
   // docs/protocol.md states these sizes.
   if constexpr (std::is_same_v<Cfg, itp::RoadConfig>) {
     CHECK(itp::link::kMaxSceneBytes<Cfg> == 28426);
-    CHECK(itp::link::kMaxPlanBytes<Cfg> == 3098);
+    CHECK(itp::link::kMaxPlanBytes<Cfg> == 3128);
   } else {
     CHECK(itp::link::kMaxSceneBytes<Cfg> == 9947);
-    CHECK(itp::link::kMaxPlanBytes<Cfg> == 2755);
+    CHECK(itp::link::kMaxPlanBytes<Cfg> == 2785);
   }
   // At the smallest segment size the host shrinks to (32 bytes) the sealed
   // Scene would need more than 255 segments: the sender takes larger ones
