@@ -35,7 +35,11 @@ SIM_COMPARE ?= host
 SIM_OUT ?= build/sim
 
 # make fuzz FUZZ_SECONDS=600: every fuzz target for that long (tests/fuzz/run_fuzzers.sh).
+# FUZZ_PRESET=fuzz-long: the build for long runs (UBSan, no ASan; docs/fuzzing.md);
+# FUZZ_OPTS=-runs=10000000: any libFuzzer options instead of the time limit.
 FUZZ_SECONDS ?= 60
+FUZZ_PRESET ?= fuzz
+FUZZ_OPTS ?= -max_total_time=$(FUZZ_SECONDS)
 
 .PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean fuzz fuzz-build wcet wcet-measure
 
@@ -50,7 +54,8 @@ help:
 	@echo "              dynamic frames, unresolved indirect calls or a linker-script stack below bound + margin"
 	@echo "make wcet   - the derived worst case per cycle: budgets x measured cost per unit, measured maxima"
 	@echo "make wcet-measure - measure the costs per unit under QEMU (default + stress suite, long)"
-	@echo "make fuzz   - run every libFuzzer target for FUZZ_SECONDS seconds (default 60)"
+	@echo "make fuzz   - run every libFuzzer target for FUZZ_SECONDS seconds (default 60);"
+	@echo "              FUZZ_PRESET=fuzz-long (no ASan) and FUZZ_OPTS=-runs=10000000 for long runs"
 
 deps:
 	@missing=""; \
@@ -73,11 +78,11 @@ cortex-m7:
 	cmake --build --preset cortex-m7
 
 fuzz-build:
-	cmake --preset fuzz
-	cmake --build --preset fuzz
+	cmake --preset $(FUZZ_PRESET)
+	cmake --build --preset $(FUZZ_PRESET)
 
 fuzz: deps fuzz-build
-	tests/fuzz/run_fuzzers.sh build/fuzz/tests/fuzz -max_total_time=$(FUZZ_SECONDS)
+	tests/fuzz/run_fuzzers.sh build/$(FUZZ_PRESET)/tests/fuzz $(FUZZ_OPTS)
 
 host-release: cortex-m7
 	cmake --preset host-release
@@ -130,7 +135,7 @@ test: deps
 	$(MAKE) --no-print-directory stack
 	$(MAKE) --no-print-directory host-release
 	ctest --preset host-release
-	$(MAKE) --no-print-directory fuzz-build
+	$(MAKE) --no-print-directory fuzz-build FUZZ_PRESET=fuzz
 	ctest --preset fuzz
 
 sim: deps host-release
