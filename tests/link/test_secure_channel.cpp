@@ -4,15 +4,13 @@
 // Tags and key derivation are checked against an independent computation
 // (OpenSSL's AES-128-CMAC of the documented byte layouts).
 #include <doctest/doctest.h>
-#include <openssl/core_names.h>
-#include <openssl/evp.h>
-#include <openssl/params.h>
 
 #include <array>
 #include <string>
 #include <vector>
 
 #include "itp/link/secure_channel.hpp"
+#include "openssl_cmac.hpp"
 
 using namespace itp::link;
 
@@ -36,24 +34,9 @@ void append(std::vector<std::uint8_t>& v, const Range& bytes) {
   for (const auto b : bytes) v.push_back(static_cast<std::uint8_t>(b));
 }
 
-// OpenSSL 3's AES-128-CMAC (EVP_MAC "CMAC", cipher AES-128-CBC).
+// OpenSSL 3's AES-128-CMAC (tests/support/openssl_cmac.hpp).
 std::array<std::uint8_t, 16> openssl_cmac(const std::uint8_t* key, const std::vector<std::uint8_t>& msg) {
-  EVP_MAC* mac = EVP_MAC_fetch(nullptr, "CMAC", nullptr);
-  REQUIRE(mac != nullptr);
-  EVP_MAC_CTX* ctx = EVP_MAC_CTX_new(mac);
-  REQUIRE(ctx != nullptr);
-  char cipher[] = "AES-128-CBC";
-  const OSSL_PARAM params[] = {OSSL_PARAM_construct_utf8_string(OSSL_MAC_PARAM_CIPHER, cipher, 0),
-                               OSSL_PARAM_construct_end()};
-  REQUIRE(EVP_MAC_init(ctx, key, 16, params) == 1);
-  REQUIRE(EVP_MAC_update(ctx, msg.data(), msg.size()) == 1);
-  std::array<std::uint8_t, 16> tag{};
-  std::size_t len = 0;
-  REQUIRE(EVP_MAC_final(ctx, tag.data(), &len, tag.size()) == 1);
-  REQUIRE(len == 16);
-  EVP_MAC_CTX_free(ctx);
-  EVP_MAC_free(mac);
-  return tag;
+  return itp_test::openssl_cmac(key, msg.data(), msg.size());
 }
 
 struct Pair {
