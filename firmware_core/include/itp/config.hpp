@@ -143,8 +143,8 @@ struct DefaultSizes {
   static constexpr int kMaxCoarseIterationsPerCycle = 300;  // their iterations (max 1210, p99.9 292)
   static constexpr int kMaxPathIterationsPerCycle = 270;    // path-QP iterations (max 853, p99.9 379): failed
                                                             // QPs rationed, the largest term of the bound
-  static constexpr int kMaxSpeedSolvesPerCycle = 8;         // speed QPs (max 14, p99.9 8)
-  static constexpr int kMaxSpeedIterationsPerCycle = 300;   // their iterations (max 498, p99.9 184)
+  static constexpr int kMaxSpeedSolvesPerCycle = 12;        // speed QPs (max 14, p99.9 8)
+  static constexpr int kMaxSpeedIterationsPerCycle = 450;   // their iterations (max 498, p99.9 184)
   // One budget for the three QP stages together (core/work_ledger.hpp): each
   // coarse, path and speed QP's setup and each of its iterations costs its
   // worst measured cost on the reference target, in thousands of Cortex-M7
