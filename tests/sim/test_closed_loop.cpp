@@ -296,6 +296,15 @@ class BudgetEndpoint final : public PlannerEndpoint {
               w.coarse_qps <= C::kMaxCoarseQpsPerCycle && w.coarse_iterations <= C::kMaxCoarseIterationsPerCycle &&
               w.path_solves <= C::kMaxPathSolvesPerCycle && w.path_iterations <= C::kMaxPathIterationsPerCycle &&
               w.speed_solves <= C::kMaxSpeedSolvesPerCycle && w.speed_iterations <= C::kMaxSpeedIterationsPerCycle;
+    // The QP stages' shared work, recomputed from the counts the plan reports.
+    const long qp_work = static_cast<long>(w.coarse_qps) * C::kCoarseQpSetupWork +
+                         static_cast<long>(w.coarse_iterations) * C::kCoarseIterationWork +
+                         static_cast<long>(w.path_solves) * C::kPathSolveSetupWork +
+                         static_cast<long>(w.path_iterations) * C::kPathIterationWork +
+                         static_cast<long>(w.speed_solves) * C::kSpeedSolveSetupWork +
+                         static_cast<long>(w.speed_iterations) * C::kSpeedIterationWork;
+    within &= qp_work <= C::kQpWorkPerCycle;
+    max_qp_work = std::max(max_qp_work, qp_work);
     if (out.status == itp::PlanStatus::kFallback && out.fallback == itp::planner::FallbackReason::kBudget) {
       ++budget_fallbacks;
       bool stop = !out.trajectory.empty();
@@ -308,6 +317,7 @@ class BudgetEndpoint final : public PlannerEndpoint {
   }
   std::string name() const override { return "budget"; }
   bool within = true;
+  long max_qp_work = 0;  // [k instructions] the most QP work a cycle charged
   int budget_fallbacks = 0;
   int stops = 0;  // ... whose trajectory is a stop (speed never rising)
 
@@ -323,6 +333,7 @@ TEST_CASE("closed loop: every cycle stays within its budgets, and a spent budget
   // the planner no longer needs that much work there).
   int budget_fallbacks = 0;
   int stops = 0;
+  long max_qp_work = 0;
   for (const auto& [seed, index] : {std::pair{9, 127}, std::pair{2, 53}, std::pair{5, 72}}) {
     const World w = generate_scene(static_cast<std::uint64_t>(seed), index);
     BudgetEndpoint ep;
@@ -334,10 +345,12 @@ TEST_CASE("closed loop: every cycle stays within its budgets, and a spent budget
     CHECK_FALSE(r.summary.departed());
     budget_fallbacks += ep.budget_fallbacks;
     stops += ep.stops;
+    max_qp_work = std::max(max_qp_work, ep.max_qp_work);
   }
   CHECK(budget_fallbacks > 0);
   CHECK(stops == budget_fallbacks);
-  MESSAGE("budget fallbacks: " << budget_fallbacks);
+  MESSAGE("budget fallbacks: " << budget_fallbacks << ", most QP work in a cycle: " << max_qp_work << " of "
+                               << itp::DefaultConfig::kQpWorkPerCycle << " k instructions");
 }
 
 TEST_CASE("closed loop: more traffic in range than the scene holds never ends the run, and what was left out is counted") {

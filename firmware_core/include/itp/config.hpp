@@ -143,8 +143,23 @@ struct DefaultSizes {
   static constexpr int kMaxCoarseIterationsPerCycle = 300;  // their iterations (max 1210, p99.9 292)
   static constexpr int kMaxPathIterationsPerCycle = 270;    // path-QP iterations (max 853, p99.9 379): failed
                                                             // QPs rationed, the largest term of the bound
-  static constexpr int kMaxSpeedSolvesPerCycle = 8;         // speed QPs (max 14, p99.9 8)
-  static constexpr int kMaxSpeedIterationsPerCycle = 300;   // their iterations (max 498, p99.9 184)
+  static constexpr int kMaxSpeedSolvesPerCycle = 12;        // speed QPs (max 14, p99.9 8)
+  static constexpr int kMaxSpeedIterationsPerCycle = 450;   // their iterations (max 498, p99.9 184)
+  // One budget for the three QP stages together (core/work_ledger.hpp): each
+  // coarse, path and speed QP's setup and each of its iterations costs its
+  // worst measured cost on the reference target, in thousands of Cortex-M7
+  // instructions (`make wcet-measure`: upper envelope over the default and the
+  // stress suite x 1.2, rounded up; `make wcet` fails when a refit exceeds
+  // them). A cycle may spend kQpWorkPerCycle of them: the stages' budgets
+  // above sum to 41.5 M instructions, this caps their sum at 22 M. Seeds 1-10
+  // without it: the ok cycles it would have stopped, 1-14 per 24 000.
+  static constexpr int kQpWorkPerCycle = 22000;       // [k instructions]
+  static constexpr int kCoarseQpSetupWork = 115;      // per coarse QP
+  static constexpr int kCoarseIterationWork = 11;     // per coarse-QP iteration
+  static constexpr int kPathSolveSetupWork = 717;     // per path QP (setup, factorisation)
+  static constexpr int kPathIterationWork = 43;       // per path-QP iteration
+  static constexpr int kSpeedSolveSetupWork = 561;    // per speed QP, with its ST graph build
+  static constexpr int kSpeedIterationWork = 39;      // per speed-QP iteration
 
   // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
   // time in planner.cpp on every target; docs/performance.md, "Memory").
@@ -218,6 +233,12 @@ struct Configuration : Sizes {
                     Sizes::kMaxCoarseIterationsPerCycle >= 1 && Sizes::kMaxPathIterationsPerCycle >= 1 &&
                     Sizes::kMaxSpeedSolvesPerCycle >= 1 && Sizes::kMaxSpeedIterationsPerCycle >= 1,
                 "budgets must allow one solve");
+  static_assert(Sizes::kCoarseQpSetupWork > 0 && Sizes::kCoarseIterationWork > 0 &&
+                    Sizes::kPathSolveSetupWork > 0 && Sizes::kPathIterationWork > 0 &&
+                    Sizes::kSpeedSolveSetupWork > 0 && Sizes::kSpeedIterationWork > 0 &&
+                    Sizes::kQpWorkPerCycle >= Sizes::kPathSolveSetupWork + Sizes::kPathIterationWork &&
+                    Sizes::kQpWorkPerCycle < 1000000000,
+                "QP work costs must be positive and the cycle's work budget must allow one solve");
 };
 
 // The default build: the paper's envelope (10 static + 5 dynamic obstacles,

@@ -45,9 +45,13 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
   // Lowest decision cost wins; ties keep the better geometric rank. Decisions
   // beyond the budget stay unevaluated (not usable).
   // WCET: <= kKeptDecisions; over the cycle <= kMaxCoarseQpsPerCycle QPs with
-  // kMaxCoarseIterationsPerCycle iterations in all (the budget the caller passes).
+  // kMaxCoarseIterationsPerCycle iterations in all (the budget the caller passes),
+  // and within the cycle's QP work (budget.ledger).
   for (std::size_t i = 0; i < set_.kept.size(); ++i) {  // <= kKeptDecisions
-    const int left = budget.coarse_iterations - work.coarse_iterations;
+    int left = budget.coarse_iterations - work.coarse_iterations;
+    if (budget.ledger != nullptr) {
+      left = budget.ledger->grant(Cfg::kCoarseQpSetupWork, Cfg::kCoarseIterationWork, left);
+    }
     if (work.coarse_qps >= budget.coarse_qps || left <= 0) {
       coarse_[i] = CoarseResult{};  // kInvalidInput: not usable
       work.budget_out = true;
@@ -56,6 +60,9 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
     evaluator_.evaluate(space_, set_.kept[i], input, weights.coarse, coarse_[i], left);
     ++work.coarse_qps;
     work.coarse_iterations += coarse_[i].qp_iterations;
+    if (budget.ledger != nullptr) {
+      budget.ledger->charge(Cfg::kCoarseQpSetupWork, Cfg::kCoarseIterationWork, coarse_[i].qp_iterations);
+    }
     if (!qp::is_usable(coarse_[i].status)) {
       continue;
     }

@@ -43,7 +43,7 @@ FallbackReason BasicCorridorSearch<Cfg>::run(const StSamples& s_guess, BasicSlSc
     std::uint64_t t0 = ctx.ticks.ticks();
     sl.place_dynamic(s_guess, skip);
     const decision::DecisionBudget budget{Cfg::kMaxTreeNodesPerCycle - tree_nodes_, Cfg::kMaxCoarseQpsPerCycle - coarse_qps_,
-                                          Cfg::kMaxCoarseIterationsPerCycle - coarse_iterations_};
+                                          Cfg::kMaxCoarseIterationsPerCycle - coarse_iterations_, ctx.work};
     decision::DecisionWork work;
     const decision::DecisionStatus ds = stage_.run(sl.road(), sl.boxes(), ctx.inputs->convex, ctx.inputs->coarse,
                                                    ctx.settings->decision_weights, budget, ctx.ticks, work);
@@ -98,7 +98,7 @@ FallbackReason BasicCorridorSearch<Cfg>::run(const StSamples& s_guess, BasicSlSc
 template <class Cfg>
 bool BasicCorridorSearch<Cfg>::try_paths(BasicSlScene<Cfg>& sl, const Context& ctx, PathResult& path,
                                          BasicPlan<Cfg>& out) {
-  if (path_budget_spent()) {
+  if (path_iterations_left(ctx.work) <= 0) {
     path_budget_out_ = true;
     return false;
   }
@@ -120,14 +120,21 @@ bool BasicCorridorSearch<Cfg>::try_paths(BasicSlScene<Cfg>& sl, const Context& c
     // oncoming lane, say). Within the cycle's budget.
     const int levels = attempt < kEvasiveAttempts ? 3 : 2;
     // WCET: <= 3 per attempt; over the cycle <= kMaxPathSolvesPerCycle solves
-    // and kMaxPathIterationsPerCycle iterations in all (path_budget_spent).
-    for (int relax = 0; relax < levels && chosen_ < 0 && !path_budget_spent(); ++relax) {
+    // and kMaxPathIterationsPerCycle iterations in all, within the cycle's QP
+    // work (path_iterations_left).
+    for (int relax = 0; relax < levels && chosen_ < 0; ++relax) {
+      // Capped at what is left of the cycle's path-QP iterations and QP work.
+      const int cap = path_iterations_left(ctx.work);
+      if (cap <= 0) {
+        break;
+      }
       ++path_solves_;
       pi.kappa_bound = relax == 0 ? &ctx.bounds->expected : (relax == 1 ? &ctx.bounds->reach : &ctx.bounds->evasive);
-      // Capped at what is left of the cycle's path-QP iterations.
-      path_opt_.solve(stage_.space(), d, pi, ctx.settings->path_weights, path,
-                      Cfg::kMaxPathIterationsPerCycle - path_iterations_);
+      path_opt_.solve(stage_.space(), d, pi, ctx.settings->path_weights, path, cap);
       path_iterations_ += path.iterations;
+      if (ctx.work != nullptr) {
+        ctx.work->charge(Cfg::kPathSolveSetupWork, Cfg::kPathIterationWork, path.iterations);
+      }
       ++out.qp_solves;
       out.qp_iterations += path.iterations;
       ++out.timing.path_solves;
@@ -137,7 +144,7 @@ bool BasicCorridorSearch<Cfg>::try_paths(BasicSlScene<Cfg>& sl, const Context& c
         evasive_ = relax == 2;
       }
     }
-    if (chosen_ < 0 && path_budget_spent()) {
+    if (chosen_ < 0 && path_iterations_left(ctx.work) <= 0) {
       path_budget_out_ = true;
       break;  // budget spent: the worst case stays bounded (WCET), the caller falls back
     }

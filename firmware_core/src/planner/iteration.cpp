@@ -79,7 +79,7 @@ FallbackReason BasicIteration<Cfg>::run(Context& ctx, const StartState& start, B
   } else if (ctx.first_cycle) {
     guess_first_speed(ctx, start, s_guess, v_guess, out);
   }
-  const typename Search::Context search_ctx{&ctx.inputs, ctx.bounds, ctx.settings, ctx.previous, ctx.ticks};
+  const typename Search::Context search_ctx{&ctx.inputs, ctx.bounds, ctx.settings, ctx.previous, ctx.ticks, &qp_work_};
   const Scalar width = ctx.scene->ego.geometry.width;
   bool safe = false;
   bool blocked_by_statics = false;
@@ -190,14 +190,29 @@ template <class Cfg>
 void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, const StSamples& v_guess,
                                      BasicPlan<Cfg>& out) {
   speed::BasicSpeedInput<Cfg>& si = ctx.inputs.speed;
-  st_.build(path_, ctx.sl->tracks(), ctx.inputs.st, s_guess, v_guess, bounds_);
+  // Every ST graph build is followed by a speed QP, whose setup cost includes
+  // the build (kSpeedSolveSetupWork): no build without room for that QP.
+  if (!room_for_speed_qp(out)) {
+    return;
+  }
+  // Keeping ahead of a follower is a wish, not a constraint: a speed QP that
+  // fails with it is solved again without it, and once that happened the
+  // cycle's later speed plans go without it from the start (its failure is
+  // certified at the cost of a whole solve, some 70 iterations, and the
+  // iteration's later steps, on nearly the same path, failed the same way:
+  // ZAM_Tutorial spent its speed budget on these).
+  speed::BasicStParams<Cfg> st_params = ctx.inputs.st;
+  st_params.keep_ahead = st_params.keep_ahead && !keep_ahead_failed_;
+  st_.build(path_, ctx.sl->tracks(), st_params, s_guess, v_guess, bounds_);
   si.a_min = bounds_.a_min;
   solve_speed(ctx, out);
   if (!qp::is_usable(speed_.status) && !speed_budget_out_ && st_.kept_ahead()) {
-    // Keeping ahead of a follower is a wish, not a constraint: without it.
-    speed::BasicStParams<Cfg> without = ctx.inputs.st;
-    without.keep_ahead = false;
-    st_.build(path_, ctx.sl->tracks(), without, s_guess, v_guess, bounds_);
+    keep_ahead_failed_ = true;
+    if (!room_for_speed_qp(out)) {
+      return;
+    }
+    st_params.keep_ahead = false;
+    st_.build(path_, ctx.sl->tracks(), st_params, s_guess, v_guess, bounds_);
     si.a_min = bounds_.a_min;
     solve_speed(ctx, out);
   }
@@ -208,16 +223,34 @@ void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, con
 }
 
 template <class Cfg>
+int BasicIteration<Cfg>::speed_iterations_left(const BasicPlan<Cfg>& out) const {
+  const int left = out.timing.speed_solves >= Cfg::kMaxSpeedSolvesPerCycle
+                       ? 0
+                       : Cfg::kMaxSpeedIterationsPerCycle - out.timing.speed_iterations;
+  return qp_work_.grant(Cfg::kSpeedSolveSetupWork, Cfg::kSpeedIterationWork, left);
+}
+
+template <class Cfg>
+bool BasicIteration<Cfg>::room_for_speed_qp(const BasicPlan<Cfg>& out) {
+  if (speed_iterations_left(out) > 0) {
+    return true;
+  }
+  speed_ = SpeedResult{};  // kInvalidInput: not usable
+  speed_budget_out_ = true;
+  return false;
+}
+
+template <class Cfg>
 void BasicIteration<Cfg>::solve_speed(Context& ctx, BasicPlan<Cfg>& out) {
   // WCET: <= kMaxSpeedSolvesPerCycle speed QPs (each after at most one ST
-  // graph build) with kMaxSpeedIterationsPerCycle iterations in all, per cycle.
-  const int left = Cfg::kMaxSpeedIterationsPerCycle - out.timing.speed_iterations;
-  if (out.timing.speed_solves >= Cfg::kMaxSpeedSolvesPerCycle || left <= 0) {
-    speed_ = SpeedResult{};  // kInvalidInput: not usable
-    speed_budget_out_ = true;
+  // graph build) with kMaxSpeedIterationsPerCycle iterations in all, per
+  // cycle, within the cycle's QP work.
+  if (!room_for_speed_qp(out)) {
     return;
   }
+  const int left = speed_iterations_left(out);
   speed_opt_.solve(ctx.inputs.speed, bounds_, ctx.settings->speed_weights, speed_, left);
+  qp_work_.charge(Cfg::kSpeedSolveSetupWork, Cfg::kSpeedIterationWork, speed_.iterations);
   ++out.qp_solves;
   out.qp_iterations += speed_.iterations;
   ++out.timing.speed_solves;

@@ -7,6 +7,7 @@
 #include <span>
 
 #include "itp/core/tick_source.hpp"
+#include "itp/core/work_ledger.hpp"
 #include "itp/decision/coarse_evaluation.hpp"
 #include "itp/decision/convex_space.hpp"
 #include "itp/decision/decision_tree.hpp"
@@ -29,6 +30,7 @@ struct DecisionBudget {
   int tree_nodes = 0;         // at most this many nodes (<= 0 or > kMaxTreeNodes: kMaxTreeNodes)
   int coarse_qps = 0;         // coarse QPs, at most
   int coarse_iterations = 0;  // their iterations, at most
+  WorkLedger* ledger = nullptr;  // the cycle's QP work budget, charged per coarse QP (nullptr: none)
 };
 
 struct DecisionWork {

@@ -11,12 +11,15 @@
 // Per-cycle budgets bound the worst case: kMaxDecisionRunsPerCycle decision
 // stage runs and kMaxPathSolvesPerCycle path QPs over all iterations and
 // rounds; a corridor whose path QP failed is remembered for the cycle and not
-// tried again. A spent budget ends the search with a fallback reason.
+// tried again. The coarse and path QPs also charge the cycle's QP work
+// (core/work_ledger.hpp), which they share with the speed QPs. A spent
+// budget ends the search with a fallback reason.
 #include <array>
 #include <cstdint>
 
 #include "itp/core/static_vector.hpp"
 #include "itp/core/tick_source.hpp"
+#include "itp/core/work_ledger.hpp"
 #include "itp/decision/decision_stage.hpp"
 #include "itp/path/path_optimizer.hpp"
 #include "itp/planner/curvature_bounds.hpp"
@@ -43,6 +46,7 @@ class BasicCorridorSearch {
     const PlannerSettings* settings = nullptr;
     PreviousSides previous{};
     TickSource ticks{};
+    WorkLedger* work = nullptr;  // the cycle's QP work budget (coarse and path QPs charge it)
   };
 
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) {
@@ -94,8 +98,10 @@ class BasicCorridorSearch {
     return decision_runs_ >= Cfg::kMaxDecisionRunsPerCycle || tree_nodes_ >= Cfg::kMaxTreeNodesPerCycle ||
            coarse_qps_ >= Cfg::kMaxCoarseQpsPerCycle || coarse_iterations_ >= Cfg::kMaxCoarseIterationsPerCycle;
   }
-  bool path_budget_spent() const {
-    return path_solves_ >= Cfg::kMaxPathSolvesPerCycle || path_iterations_ >= Cfg::kMaxPathIterationsPerCycle;
+  // Path-QP iterations the next solve may take (0: a budget is spent).
+  int path_iterations_left(const WorkLedger* work) const {
+    const int left = path_solves_ >= Cfg::kMaxPathSolvesPerCycle ? 0 : Cfg::kMaxPathIterationsPerCycle - path_iterations_;
+    return work != nullptr ? work->grant(Cfg::kPathSolveSetupWork, Cfg::kPathIterationWork, left) : left;
   }
   int chosen_ = -1;
   bool evasive_ = false;

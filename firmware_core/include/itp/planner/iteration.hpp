@@ -11,6 +11,7 @@
 #include <array>
 
 #include "itp/core/tick_source.hpp"
+#include "itp/core/work_ledger.hpp"
 #include "itp/geometry/reference_line.hpp"
 #include "itp/planner/collision_check.hpp"
 #include "itp/planner/corridor_search.hpp"
@@ -61,6 +62,8 @@ class BasicIteration {
   void begin_cycle() {
     search_.begin_cycle();
     speed_budget_out_ = false;
+    keep_ahead_failed_ = false;
+    qp_work_.begin(Cfg::kQpWorkPerCycle);
   }
 
   // Runs the iteration from `start`. kNone: `out` holds the trajectory with
@@ -84,8 +87,12 @@ class BasicIteration {
   void guess_first_speed(Context& ctx, const StartState& start, StSamples& s_guess, StSamples& v_guess,
                          BasicPlan<Cfg>& out);
   void plan_speed(Context& ctx, const StSamples& s_guess, const StSamples& v_guess, BasicPlan<Cfg>& out);
-  // One speed QP within the cycle's speed budgets (else speed_ is not usable
-  // and speed_budget_out_ is set).
+  // Speed-QP iterations the next solve may take within the cycle's speed
+  // budgets and QP work (0: spent).
+  int speed_iterations_left(const BasicPlan<Cfg>& out) const;
+  // False (speed_ not usable, speed_budget_out_ set) when none is left.
+  bool room_for_speed_qp(const BasicPlan<Cfg>& out);
+  // One speed QP within them (else speed_ is not usable and speed_budget_out_ is set).
   void solve_speed(Context& ctx, BasicPlan<Cfg>& out);
   void sample_trajectory(const ReferenceLine& reference, const StartState& start, BasicPlan<Cfg>& out) const;
 
@@ -96,6 +103,8 @@ class BasicIteration {
   SpeedOptimizer speed_opt_{};
   SpeedResult speed_{};
   bool speed_budget_out_ = false;  // a speed budget (itp/config.hpp) ran out this cycle
+  bool keep_ahead_failed_ = false;  // a speed QP keeping ahead of a follower failed this cycle
+  WorkLedger qp_work_{};           // the cycle's QP work: coarse, path and speed QPs
 };
 
 }  // namespace itp::planner
