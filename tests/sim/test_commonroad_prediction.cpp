@@ -64,7 +64,7 @@ TEST_CASE("CommonRoad import: the vehicle lanelets become the world's lane map")
   CHECK(ego_lane);
 }
 
-TEST_CASE("USA_Peach-4_8: the oncoming car 520 on the curve passes the standing ego along its lane; constant velocity runs into it") {
+TEST_CASE("USA_Peach-4_8: the oncoming car 520 on the curve passes the standing ego along its lane, constant velocity runs into it") {
   const World w = import_file("USA_Peach-4_8_T-1.xml");
   // Constant velocity: 520 drifts 3 degrees towards the ego's line and
   // overlaps the standing ego within the horizon.

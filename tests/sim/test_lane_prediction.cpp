@@ -66,7 +66,7 @@ std::vector<Lane> circle_lanes() {
 
 }  // namespace
 
-TEST_CASE("lane prediction: an obstacle on a circular lane stays on the arc at its speed; constant velocity leaves it") {
+TEST_CASE("lane prediction: an obstacle on a circular lane stays on the arc at its speed, constant velocity leaves it") {
   const std::vector<Lane> lanes = circle_lanes();
   const LaneMap map(lanes);
   const double a0 = 0.2;  // [rad] where the obstacle is on the circle
@@ -92,7 +92,7 @@ TEST_CASE("lane prediction: an obstacle on a circular lane stays on the arc at i
   CHECK(std::hypot(cv_x, cv_y) - 40.0 > 20.0);
 }
 
-TEST_CASE("lane prediction: the offset from the centre line and the heading error decay; t = 0 is the obstacle itself") {
+TEST_CASE("lane prediction: the offset from the centre line and the heading error decay, t = 0 is the obstacle itself") {
   const std::vector<Lane> lanes = circle_lanes();
   const LaneMap map(lanes);
   const Pose now{40.8, 0.0, kPi / 2 + 0.1};  // 0.8 m right of the centre line (outside), turned 0.1 rad left
@@ -131,7 +131,7 @@ TEST_CASE("lane prediction: no match is no prediction (the caller's constant vel
   CHECK_FALSE(predict_along_lanes(LaneMap(none), Pose{40.0, 0.0, kPi / 2}, 5.0, t).has_value());
 }
 
-TEST_CASE("lane prediction: at a branch the straightest successor; beyond the map's end straight on") {
+TEST_CASE("lane prediction: at a branch the straightest successor, beyond the map's end straight on") {
   // Lane 1 along +x to (20, 0); successors 2 (straight on to (60, 0)) and 3
   // (a left turn of R = 10 m), listed turn first.
   std::vector<Lane> lanes{straight_lane(1, {0, 0}, {20, 0}, 3.5), straight_lane(2, {20, 0}, {60, 0}, 3.5),
@@ -157,7 +157,7 @@ TEST_CASE("lane prediction: at a branch the straightest successor; beyond the ma
   CHECK(lanes[on_turn->lane].id == 3);
 }
 
-TEST_CASE("make_planner_scene: lane predictions follow the lane; a world without lanes gets exactly constant velocity") {
+TEST_CASE("make_planner_scene: lane predictions follow the lane, a world without lanes gets exactly constant velocity") {
   // A generated scene has no lane map: kLane is kConstantVelocity, sample for sample.
   const World generated = generate_scene(1, 3);
   REQUIRE(generated.lanes.empty());
@@ -222,7 +222,7 @@ TEST_CASE("make_planner_scene: lane predictions follow the lane; a world without
   }
 }
 
-TEST_CASE("scene/1 extension \"lanes\": written and read back; malformed lanes are errors") {
+TEST_CASE("scene/1 extension lanes: written and read back, malformed lanes are errors") {
   World w = generate_scene(1, 0);
   w.lanes = circle_lanes();
   const SceneParseResult back = parse_scene_text(scene_to_text(w));
