@@ -66,13 +66,17 @@ void add_generator_options(CLI::App& cmd, int& count, std::uint64_t& seed) {
 
 void add_prediction_option(CLI::App& cmd, std::string& prediction) {
   cmd.add_option("--prediction", prediction,
-                 "Obstacle predictions sent to the planner: cv (constant velocity) or truth (ground truth)")
-      ->check(CLI::IsMember({"cv", "truth"}))
+                 "Obstacle predictions sent to the planner: lane (along the lane each obstacle is on, at its "
+                 "current speed; constant velocity where no lane matches, and for scenes without a lane map: "
+                 "generated scenes), cv (constant velocity) or truth (ground truth)")
+      ->check(CLI::IsMember({"lane", "cv", "truth"}))
       ->capture_default_str();
 }
 
 sim::Prediction prediction_mode(const std::string& prediction) {
-  return prediction == "truth" ? sim::Prediction::kGroundTruth : sim::Prediction::kConstantVelocity;
+  if (prediction == "truth") return sim::Prediction::kGroundTruth;
+  if (prediction == "lane") return sim::Prediction::kLane;
+  return sim::Prediction::kConstantVelocity;
 }
 
 void add_commonroad_options(CLI::App& cmd, sim::CommonRoadOptions& o, bool on_import) {

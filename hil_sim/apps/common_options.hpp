@@ -46,7 +46,7 @@ std::string firmware_image(const TargetOptions& target, const std::string& host_
 // --count (positive) and --seed of the scene generator (same seed, same scenes).
 void add_generator_options(CLI::App& cmd, int& count, std::uint64_t& seed);
 
-// --prediction cv | truth; its default is the value `prediction` holds.
+// --prediction lane | cv | truth; its default is the value `prediction` holds.
 void add_prediction_option(CLI::App& cmd, std::string& prediction);
 sim::Prediction prediction_mode(const std::string& prediction);
 

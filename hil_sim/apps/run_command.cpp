@@ -173,7 +173,9 @@ int run_worlds(const RunCommand& cmd, const std::vector<World>& worlds) {
 
   fmt::print("hil_sim run: {} scenes, target {}, config {}, prediction {}{}\n", worlds.size(), endpoint->name(),
              sim::to_string(sim::sim_config_of<Cfg>()),
-             opt.prediction == Prediction::kGroundTruth ? "ground truth" : "constant velocity",
+             opt.prediction == Prediction::kGroundTruth ? "ground truth"
+             : opt.prediction == Prediction::kLane      ? "along lanes (constant velocity off the lane map)"
+                                                         : "constant velocity",
              link.faults.any() ? ", link faults " + to_string(link.faults) : std::string());
   std::fflush(stdout);
   std::ofstream trace;

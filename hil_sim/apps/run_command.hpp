@@ -22,7 +22,7 @@ struct RunCommand {
   int count = 200;
   std::uint64_t seed = 1;
   TargetOptions target;                  // inproc | host | qemu, configuration, firmware, link key
-  std::string prediction = "cv";         // cv | truth
+  std::string prediction = "lane";       // lane | cv | truth (lane = cv on scenes without a lane map)
   std::string report;                    // report/1 path ("" = none)
   std::string plots;                     // directory for SVGs and index.html ("" = none)
   std::string trace;                     // JSON Lines file, one object per cycle ("" = none)

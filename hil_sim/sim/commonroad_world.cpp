@@ -193,6 +193,30 @@ double scenario_duration(const cr::Scenario& sc, const cr::PlanningProblem& p, s
   return d;
 }
 
+// The lane map of the lane-following prediction (World::lanes): every vehicle
+// lanelet (not a sidewalk, crosswalk or bicycle lane) with its centre line,
+// bounds and successors.
+void map_lanes(const cr::Scenario& sc, World& w) {
+  for (const cr::Lanelet& l : sc.lanelets) {
+    const bool vehicle = std::none_of(l.types.begin(), l.types.end(), [](const std::string& t) {
+      return t == "sidewalk" || t == "crosswalk" || t == "bicycleLane";
+    });
+    if (!vehicle) continue;
+    Lane lane;
+    lane.id = l.id;
+    for (const Point2& p : lanelet_centre(l)) {  // no zero-length segments: they have no direction
+      if (lane.centre.empty() || std::hypot(p.x - lane.centre.back().x, p.y - lane.centre.back().y) > 0.01) {
+        lane.centre.push_back(p);
+      }
+    }
+    for (const cr::Vec2& p : l.left_bound) lane.left.push_back({p.x, p.y});
+    for (const cr::Vec2& p : l.right_bound) lane.right.push_back({p.x, p.y});
+    lane.successors = l.successors;
+    if (lane.centre.size() < 2) continue;
+    w.lanes.push_back(std::move(lane));
+  }
+}
+
 }  // namespace
 
 bool is_max_speed_sign(const std::string& id) { return id == "274" || id == "274.1" || id == "R2-1" || id == "r301"; }
@@ -313,6 +337,7 @@ CommonRoadImport map_commonroad(const cr::Scenario& sc, const CommonRoadOptions&
     out.notes.push_back(fmt::format("speed limit {:.2f} m/s from the max-speed sign of {}", *signed_limit, source));
   }
   if (!map_obstacles(sc, frame, w, out)) return out;
+  map_lanes(shifted, w);
   if (!opt.speed_limit && !signed_limit) {
     // No sign: 50 km/h, but not below the speeds the scenario starts with.
     double fastest = w.ego.v;

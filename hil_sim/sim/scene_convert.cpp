@@ -7,6 +7,7 @@
 
 #include "itp/configurations.hpp"
 #include "sim/box_geometry.hpp"
+#include "sim/lane_prediction.hpp"
 #include "sim/road_resampling.hpp"
 
 namespace hil::sim {
@@ -91,6 +92,15 @@ bool Relevance::operator<(const Relevance& o) const {
   return std::tuple(approach_m, !ahead, distance_now_m, id) < std::tuple(o.approach_m, !o.ahead, o.distance_now_m, o.id);
 }
 
+const char* prediction_name(Prediction p) {
+  switch (p) {
+    case Prediction::kGroundTruth: return "truth";
+    case Prediction::kConstantVelocity: return "cv";
+    case Prediction::kLane: return "lane";
+  }
+  return "?";
+}
+
 EgoNow ego_at_start(const World& w) {
   return EgoNow{w.ego.x, w.ego.y, w.ego.heading, w.ego.v, w.ego.a, w.ego.kappa};
 }
@@ -163,6 +173,9 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
   // horizon (+0.5 s) Cfg holds (the road configuration: 0.2 s).
   const double step = prediction_step<Cfg>();
   const int steps = static_cast<int>(std::lround((kHorizon + 0.5) / step));
+  const LaneMap lanes(w.lanes);
+  std::vector<double> times;
+  for (int k = 0; k <= steps; ++k) times.push_back(step * k);
   for (const DynamicObstacle& o : w.dynamic_obstacles) {
     const std::optional<Pose> current = pose_at(o, now);
     const double v_now = [&] {
@@ -171,11 +184,16 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
       }
       return o.trajectory.back().v;
     }();
-    if (mode == Prediction::kConstantVelocity && !current) {
+    if (mode != Prediction::kGroundTruth && !current) {
       continue;  // not perceived yet
     }
     if (current && std::hypot(current->x - ego.x, current->y - ego.y) > kRelevantRange) {
       continue;
+    }
+    // Along its lane (not a pedestrian's), else straight on.
+    std::optional<std::vector<Pose>> along_lane;
+    if (mode == Prediction::kLane && o.kind != "pedestrian") {
+      along_lane = predict_along_lanes(lanes, *current, v_now, times);
     }
     itp::scene::BasicDynamicObstacle<Cfg> d;
     d.id = o.id;
@@ -193,6 +211,12 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
         p.x = q->x;
         p.y = q->y;
         p.heading = q->heading;
+        p.v = v_now;
+      } else if (along_lane) {
+        const Pose& q = (*along_lane)[static_cast<std::size_t>(k)];
+        p.x = q.x;
+        p.y = q.y;
+        p.heading = q.heading;
         p.v = v_now;
       } else {
         p.x = current->x + v_now * std::cos(current->heading) * t;

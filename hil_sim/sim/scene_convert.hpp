@@ -2,8 +2,9 @@
 // From the simulator's world to the planner's Scene for one cycle: the
 // reference-line window around the ego, the road boundaries shifted into the
 // window's arc length, static obstacles, and dynamic obstacles with their
-// predictions over the speed horizon (ground truth, or constant velocity and
-// heading from their current state, as a perception stack would give).
+// predictions over the speed horizon (ground truth; constant velocity and
+// heading from their current state, as a perception stack would give; or
+// along their lane at their current speed, sim/lane_prediction.hpp).
 //
 // The scene arrives as the receiving configuration holds it (docs/commonroad.md,
 // "Resampling" and "Obstacle selection"): a window with more reference points
@@ -20,7 +21,13 @@
 
 namespace hil::sim {
 
-enum class Prediction { kGroundTruth, kConstantVelocity };
+// kLane: along the lane each obstacle is on (World::lanes), constant velocity
+// where none matches; a world without lanes (a generated scene) gets exactly
+// the constant-velocity predictions.
+enum class Prediction { kGroundTruth, kConstantVelocity, kLane };
+
+// "truth", "cv", "lane".
+const char* prediction_name(Prediction p);
 
 struct EgoNow {
   double x = 0, y = 0, heading = 0;  // rear axle [m], [rad]

@@ -214,6 +214,22 @@ void to_json(json& j, const World& w) {
   if (!w.tags.empty()) {
     j["tags"] = w.tags;
   }
+  if (!w.lanes.empty()) {
+    json lanes = json::array();
+    for (const Lane& l : w.lanes) {
+      auto points = [](const std::vector<Point2>& line) {
+        json arr = json::array();
+        for (const Point2& p : line) arr.push_back(json::array({p.x, p.y}));
+        return arr;
+      };
+      lanes.push_back({{"id", l.id},
+                       {"centre", points(l.centre)},
+                       {"left", points(l.left)},
+                       {"right", points(l.right)},
+                       {"successors", l.successors}});
+    }
+    j["lanes"] = std::move(lanes);
+  }
 }
 
 // Keys that scene/1 writers may leave out: a missing one takes its default.
@@ -350,6 +366,46 @@ void from_json(const json& j, World& w) {
         fail("tags", "must be a list of strings");
       }
       out.tags.push_back(t.get<std::string>());
+    }
+  }
+  if (j.contains("lanes")) {
+    const json& lanes = j.at("lanes");
+    if (!lanes.is_array()) {
+      fail("lanes", "must be a list of lanes");
+    }
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      const std::string where = fmt::format("lanes[{}]", i);
+      const json& jl = lanes[i];
+      if (!jl.is_object() || !jl.contains("id") || !jl.at("id").is_number_integer()) {
+        fail(where, "must be an object with an integer \"id\"");
+      }
+      Lane lane;
+      lane.id = jl.at("id").get<long>();
+      auto points = [&](const char* key, std::vector<Point2>& line) {
+        if (!jl.contains(key) || !jl.at(key).is_array() || jl.at(key).size() < 2) {
+          fail(where, fmt::format("\"{}\" must be a list of at least 2 [x, y] points", key));
+        }
+        for (std::size_t k = 0; k < jl.at(key).size(); ++k) {
+          const json& p = jl.at(key)[k];
+          if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number() ||
+              !std::isfinite(p[0].get<double>()) || !std::isfinite(p[1].get<double>())) {
+            fail(fmt::format("{}.{}[{}]", where, key, k), "must be an [x, y] pair of finite numbers");
+          }
+          line.push_back({p[0].get<double>(), p[1].get<double>()});
+        }
+      };
+      points("centre", lane.centre);
+      points("left", lane.left);
+      points("right", lane.right);
+      if (jl.contains("successors")) {
+        const json& succ = jl.at("successors");
+        if (!succ.is_array()) fail(where, "\"successors\" must be a list of lane ids");
+        for (const json& id : succ) {
+          if (!id.is_number_integer()) fail(where, "\"successors\" must be a list of lane ids");
+          lane.successors.push_back(id.get<long>());
+        }
+      }
+      out.lanes.push_back(std::move(lane));
     }
   }
   w = std::move(out);

@@ -81,6 +81,17 @@ struct DynamicObstacle {
   std::string kind;                  // optional extension "kind" (archetype)
 };
 
+// One lane of the optional extension "lanes" (the CommonRoad import writes its
+// vehicle lanelets): the map the lane-following prediction moves obstacles
+// along (docs/simulation.md, "Predictions"). Other readers may ignore it.
+struct Lane {
+  long id = 0;
+  std::vector<Point2> centre;  // [m] centre line, driving direction, >= 2 points
+  std::vector<Point2> left;    // [m] left bound, driving direction, >= 2 points
+  std::vector<Point2> right;   // [m] right bound, driving direction, >= 2 points
+  std::vector<long> successors;
+};
+
 struct World {
   std::string name;
   std::vector<Point2> reference_line;  // centre of the ego's lane, driving order, >= 2 points
@@ -90,6 +101,7 @@ struct World {
   std::vector<DynamicObstacle> dynamic_obstacles;
   std::optional<double> duration;  // [s] closed-loop run length
   std::vector<std::string> tags;   // optional extension "tags" (generator archetypes)
+  std::vector<Lane> lanes;         // optional extension "lanes" (CommonRoad: the lanelet map)
 };
 
 // The pose of a dynamic obstacle at time t: nullopt before its first sample;
