@@ -310,8 +310,9 @@ struct ActiveSetSolver {
   // data: x finite, and every active constraint within its bounds up to
   // primal_tolerance + refactor_tolerance (1 + |b|), on the row scaled to unit
   // norm (b its bound; the same relative accuracy that the working set's
-  // residual check accepts). Inactive constraints were just checked by the
-  // scan, which cannot miss a violation while x is finite.
+  // residual check accepts), and within the unscaled contract (within_unscaled
+  // below). Inactive constraints were just checked by the scan (both tests),
+  // which cannot miss a violation while x is finite.
   // Scaled violation of constraint c minus its final tolerance (<= 0: fine).
   S excess_violation(int c) const {
     const S ax = dot_a(c, ws.x);
@@ -322,16 +323,54 @@ struct ActiveSetSolver {
     return v - (s.primal_tolerance + s.refactor_tolerance * (S(1) + b));
   }
 
+  // The unscaled contract (docs/qp.md, "Feasibility contract"): the violation
+  // v of constraint c at x, in the problem's own units, is at most
+  // unscaled_tolerance() max(1, sum_k |a_k x_k|, |b|). A row of norm |a| >> 1
+  // passes the unit-row test above with v up to (primal_tolerance + ...) |a|
+  // whatever x and b are; this test ties v to the magnitudes that a'x and b
+  // actually have. Evaluated on the row times its exact power of two (the
+  // same inequality; no overflow for a huge row); bit-identical otherwise.
+  S unscaled_tolerance() const { return s.primal_tolerance + s.refactor_tolerance; }
+
+  bool within_unscaled(int c, S tolerance) const {
+    S ax, mag;
+    const S pw = row_power(c);
+    if (is_bound(c)) {
+      ax = ws.x[c];
+      mag = std::abs(ax);
+    } else {
+      const int r = c - kN;
+      S s0 = S(0), t0 = S(0);
+      for (int k = 0; k < p.a_nnz[r]; ++k) {
+        const S prod = (pw == S(1) ? p.a_val[r][k] : p.a_val[r][k] * pw) * ws.x[p.a_col[r][k]];
+        s0 += prod;
+        t0 += std::abs(prod);
+      }
+      ax = s0;
+      mag = t0;
+    }
+    const S up = ax - upper(c) * pw;
+    const S lo = lower(c) * pw - ax;
+    const S b = std::abs(up > lo ? upper(c) : lower(c)) * pw;
+    if (b > mag) mag = b;
+    if (mag < pw) mag = pw;
+    return (up > lo ? up : lo) <= tolerance * mag;
+  }
+
+  bool constraint_verified(int c) const {
+    return excess_violation(c) <= S(0) && within_unscaled(c, unscaled_tolerance());
+  }
+
   bool primal_verified() const {
     for (int j = 0; j < p.n; ++j) {
       if (!std::isfinite(ws.x[j])) return false;
     }
     for (int i = 0; i < ws.w_size; ++i) {
-      if (!(excess_violation(ws.w_index[i]) <= S(0))) return false;
+      if (!constraint_verified(ws.w_index[i])) return false;
     }
     if (ws.set_aside > 0) {
       for (int c = 0; c < kC; ++c) {
-        if (ws.active_side[c] == kSetAside && !(excess_violation(c) <= S(0))) return false;
+        if (ws.active_side[c] == kSetAside && !constraint_verified(c)) return false;
       }
     }
     return true;
@@ -502,10 +541,19 @@ struct ActiveSetSolver {
           stalled = moved ? 0 : stalled + 1;
           primal_from_dual();
           int side = 0;
-          int c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side);
+          scan::UnscaledViolation<S> unscaled;
+          const S utol = unscaled_tolerance();
+          int c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side, utol, &unscaled);
           if (c < 0 && (precise || ws.proximal_weight > S(0))) {
             polish();
-            c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side);
+            c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side, utol, &unscaled);
+          }
+          if (c < 0 && unscaled.constraint >= 0) {
+            // No row is violated on the unit row, but one is in its own units
+            // beyond the contract (a row of large norm, x and b small): it is
+            // violated all the same, so it enters W like any other.
+            c = unscaled.constraint;
+            side = unscaled.side;
           }
           if (c < 0) {
             const S resid = active_residual();
