@@ -328,37 +328,58 @@ struct ActiveSetSolver {
   // unscaled_tolerance() max(1, sum_k |a_k x_k|, |b|). A row of norm |a| >> 1
   // passes the unit-row test above with v up to (primal_tolerance + ...) |a|
   // whatever x and b are; this test ties v to the magnitudes that a'x and b
-  // actually have. Evaluated on the row times its exact power of two (the
-  // same inequality; no overflow for a huge row); bit-identical otherwise.
+  // actually have.
   S unscaled_tolerance() const { return s.primal_tolerance + s.refactor_tolerance; }
 
-  bool within_unscaled(int c, S tolerance) const {
-    S ax, mag;
-    const S pw = row_power(c);
-    if (is_bound(c)) {
-      ax = ws.x[c];
-      mag = std::abs(ax);
-    } else {
-      const int r = c - kN;
-      S s0 = S(0), t0 = S(0);
-      for (int k = 0; k < p.a_nnz[r]; ++k) {
-        const S prod = (pw == S(1) ? p.a_val[r][k] : p.a_val[r][k] * pw) * ws.x[p.a_col[r][k]];
-        s0 += prod;
-        t0 += std::abs(prod);
-      }
-      ax = s0;
-      mag = t0;
-    }
-    const S up = ax - upper(c) * pw;
-    const S lo = lower(c) * pw - ax;
-    const S b = std::abs(up > lo ? upper(c) : lower(c)) * pw;
+  // v <= unscaled_tolerance() max(1, mag, |b|) for a'x = ax, mag = sum |a_k x_k|,
+  // all in the same units (pw: the exact power of two they are scaled by).
+  bool within_unscaled(S ax, S mag, S lo, S hi, S pw) const {
+    const S up = ax - hi;
+    const S dn = lo - ax;
+    const S b = std::abs(up > dn ? hi : lo);
     if (b > mag) mag = b;
     if (mag < pw) mag = pw;
-    return (up > lo ? up : lo) <= tolerance * mag;
+    return (up > dn ? up : dn) <= unscaled_tolerance() * mag;
   }
 
+  // Both tests of constraint c at x: excess_violation(c) <= 0 (the same
+  // arithmetic, inlined) and the unscaled contract, whose sum sum |a_k x_k| is
+  // needed only when v exceeds the tolerance (max(1, ...) >= 1). A row scaled
+  // by pw != 1 is tested on the row times pw (the same inequality; no
+  // overflow for a huge row).
   bool constraint_verified(int c) const {
-    return excess_violation(c) <= S(0) && within_unscaled(c, unscaled_tolerance());
+    if (is_bound(c)) {
+      const S ax = ws.x[c];
+      const S up = ax - p.ub[c];
+      const S lo = p.lb[c] - ax;
+      const S v = up > lo ? up : lo;  // row_scale of a bound is 1
+      const S b = std::abs(up > lo ? p.ub[c] : p.lb[c]);
+      if (!(v - (s.primal_tolerance + s.refactor_tolerance * (S(1) + b)) <= S(0))) return false;
+      // max(1, ...) >= 1: a violation up to the tolerance passes at once.
+      return v <= unscaled_tolerance() || within_unscaled(ax, std::abs(ax), p.lb[c], p.ub[c], S(1));
+    }
+    const int r = c - kN;
+    const S pw = row_power(c);
+    if (pw != S(1)) {
+      if (!(excess_violation(c) <= S(0))) return false;
+      S ax = S(0), mag = S(0);
+      for (int k = 0; k < p.a_nnz[r]; ++k) {
+        const S prod = (p.a_val[r][k] * pw) * ws.x[p.a_col[r][k]];
+        ax += prod;
+        mag += std::abs(prod);
+      }
+      return within_unscaled(ax, mag, p.lba[r] * pw, p.uba[r] * pw, pw);
+    }
+    const S ax = p.row_dot(r, ws.x);
+    const S up = ax - p.uba[r];
+    const S lo = p.lba[r] - ax;
+    const S v = (up > lo ? up : lo) * ws.row_scale[c];
+    const S b = std::abs(up > lo ? p.uba[r] : p.lba[r]) * ws.row_scale[c];
+    if (!(v - (s.primal_tolerance + s.refactor_tolerance * (S(1) + b)) <= S(0))) return false;
+    if ((up > lo ? up : lo) <= unscaled_tolerance()) return true;  // as for a bound
+    S mag = S(0);
+    for (int k = 0; k < p.a_nnz[r]; ++k) mag += std::abs(p.a_val[r][k] * ws.x[p.a_col[r][k]]);
+    return within_unscaled(ax, mag, p.lba[r], p.uba[r], S(1));
   }
 
   bool primal_verified() const {
@@ -541,19 +562,20 @@ struct ActiveSetSolver {
           stalled = moved ? 0 : stalled + 1;
           primal_from_dual();
           int side = 0;
-          scan::UnscaledViolation<S> unscaled;
-          const S utol = unscaled_tolerance();
-          int c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side, utol, &unscaled);
+          int c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side);
           if (c < 0 && (precise || ws.proximal_weight > S(0))) {
             polish();
-            c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side, utol, &unscaled);
+            c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side);
           }
-          if (c < 0 && unscaled.constraint >= 0) {
-            // No row is violated on the unit row, but one is in its own units
-            // beyond the contract (a row of large norm, x and b small): it is
-            // violated all the same, so it enters W like any other.
-            c = unscaled.constraint;
-            side = unscaled.side;
+          if (c < 0) {
+            // No row is violated on the unit row; one may still be in its own
+            // units beyond the contract (a row of large norm, x and b small):
+            // it is violated all the same, so it enters W like any other.
+            const scan::UnscaledViolation<S> unscaled = scan::unscaled_violated(p, ws, s.primal_tolerance, unscaled_tolerance());
+            if (unscaled.constraint >= 0) {
+              c = unscaled.constraint;
+              side = unscaled.side;
+            }
           }
           if (c < 0) {
             const S resid = active_residual();

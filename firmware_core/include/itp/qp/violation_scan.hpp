@@ -37,32 +37,11 @@ void reset_bookkeeping(const QpProblem<D>& p, QpWorkspace<D>& ws) {
   for (int b = 0; b < QpWorkspace<D>::kScanBlocks; ++b) ws.path_len[b] = S(0);
 }
 
-// A row that the unit-row test accepts although its violation breaks the
-// unscaled contract (docs/qp.md, "Feasibility contract"):
-//   v = max(a'x - ub, lb - a'x) > tolerance * max(1, sum_k |a_k x_k|, |b|)
-// (b the bound on the violated side). The unit-row test alone lets a row of
-// norm |a| be violated by primal_tolerance |a| whatever x and b are: 0.3 on a
-// row of norm 1e9 at x = 0 (the fuzz finding of docs/fuzzing.md). Bounds
-// never qualify: their test is absolute and primal_tolerance <= tolerance.
-template <typename S>
-struct UnscaledViolation {
-  int constraint = -1;  // constraint id (rows N..), -1: none
-  int side = 0;
-  S relative = S(0);  // v / max(1, sum |a_k x_k|, |b|) of that row
-};
-
 // Most violated inactive constraint id (bounds 0..N-1, rows N..), or -1 if
 // none is violated by more than primal_tolerance; its side in *side_out.
-// If `unscaled` is given, it receives the row of largest relative violation
-// among the evaluated rows that the unit-row test accepts but that violate the
-// unscaled contract with `unscaled_tolerance`; complete whenever the function
-// returns -1 (rows it skips have a certified positive slack; active and
-// set-aside constraints are checked by the caller). The choice of the return
-// value, the certificates and their arithmetic are those without `unscaled`.
 template <class D>
 int most_violated(const QpProblem<D>& p, QpWorkspace<D>& ws, typename D::Scalar primal_tolerance, bool bland,
-                  int* side_out, typename D::Scalar unscaled_tolerance = typename D::Scalar(0),
-                  UnscaledViolation<typename D::Scalar>* unscaled = nullptr) {
+                  int* side_out) {
   using S = typename D::Scalar;
   using Workspace = QpWorkspace<D>;
   using BlockIndex = typename Workspace::BlockIndex;
@@ -72,7 +51,6 @@ int most_violated(const QpProblem<D>& p, QpWorkspace<D>& ws, typename D::Scalar 
   int best = -1;
   S best_v = primal_tolerance;
   int best_side = 0;
-  if (unscaled != nullptr) *unscaled = UnscaledViolation<S>{};
   for (int j = 0; j < p.n; ++j) {
     if (ws.active_side[j] != 0) continue;
     const S up = ws.x[j] - p.ub[j];
@@ -136,22 +114,71 @@ int most_violated(const QpProblem<D>& p, QpWorkspace<D>& ws, typename D::Scalar 
       best_v = v;
       best_side = up > lo ? 1 : -1;
       if (bland) break;
-    } else if (v > S(0) && unscaled != nullptr) {
-      // Violated, but within primal_tolerance on the unit row (once no row
-      // is violated beyond it, i.e. when it matters): the unscaled contract.
-      S mag = t0 + t1;
-      if (std::abs(b_near) > mag) mag = std::abs(b_near);
-      if (mag < S(1)) mag = S(1);
-      const S rel = (up > lo ? up : lo) / mag;
-      if (rel > unscaled_tolerance && rel > unscaled->relative) {
-        unscaled->constraint = kN + r;
-        unscaled->side = up > lo ? 1 : -1;
-        unscaled->relative = rel;
-      }
     }
   }
   *side_out = best_side;
   return best;
+}
+
+// A row that the unit-row test accepts although its violation breaks the
+// unscaled contract (docs/qp.md, "Feasibility contract"):
+//   v = max(a'x - ub, lb - a'x) > tolerance * max(1, sum_k |a_k x_k|, |b|)
+// (b the bound on the violated side). The unit-row test alone lets a row of
+// norm |a| be violated by primal_tolerance |a| whatever x and b are: 0.3 on a
+// row of norm 1e9 at x = 0 (the fuzz finding of docs/fuzzing.md). Bounds
+// never qualify: their test is absolute and primal_tolerance <= tolerance.
+template <typename S>
+struct UnscaledViolation {
+  int constraint = -1;  // constraint id (rows N..), -1: none
+  int side = 0;
+  S relative = S(0);  // v / max(1, sum |a_k x_k|, |b|) of that row
+};
+
+// The inactive row of largest relative violation v / max(1, sum |a_k x_k|, |b|)
+// above `tolerance`, right after most_violated() returned -1 at this x (its
+// certificates and prefix sums are those of this x). Only a row of norm above
+// tolerance / primal_tolerance can pass the unit-row test (v <= primal_tolerance
+// |a|) and still break the contract (v > tolerance, as max(1, ...) >= 1), so
+// the others are skipped on their row_scale = 1/|a| alone; so is a row whose
+// certificate proves a positive slack (row_cert - P_r > 0), and a row is
+// summed only when v > tolerance. The scan of every iteration is unchanged;
+// this costs one comparison per row per candidate optimum (and a certificate
+// test for rows of large norm). Active and set-aside constraints are checked
+// by the caller's final verification.
+template <class D>
+UnscaledViolation<typename D::Scalar> unscaled_violated(const QpProblem<D>& p, const QpWorkspace<D>& ws,
+                                                        typename D::Scalar primal_tolerance,
+                                                        typename D::Scalar tolerance) {
+  using S = typename D::Scalar;
+  constexpr int kN = D::kMaxVariables;
+  UnscaledViolation<S> out;
+  // Rows with 1/|a| >= primal_tolerance / tolerance cannot qualify.
+  const S min_scale = primal_tolerance / tolerance;
+  const S* pre = ws.path_prefix;
+  const S* scale = ws.row_scale + kN;
+  const std::int8_t* row_active = ws.active_side + kN;
+  for (int r = 0; r < p.m; ++r) {
+    if (scale[r] >= min_scale || row_active[r] != 0) continue;
+    const S travelled = pre[ws.row_end_block[r]] - pre[ws.row_first_block[r]];
+    if (ws.row_cert[r] - travelled > S(0)) continue;
+    const S ax = p.row_dot(r, ws.x);
+    const S up = ax - p.uba[r];
+    const S lo = p.lba[r] - ax;
+    const S v = up > lo ? up : lo;
+    if (!(v > tolerance)) continue;
+    S mag = S(0);
+    for (int k = 0; k < p.a_nnz[r]; ++k) mag += std::abs(p.a_val[r][k] * ws.x[p.a_col[r][k]]);
+    const S b = std::abs(up > lo ? p.uba[r] : p.lba[r]);
+    if (b > mag) mag = b;
+    if (mag < S(1)) mag = S(1);
+    const S rel = v / mag;
+    if (rel > tolerance && rel > out.relative) {
+      out.constraint = kN + r;
+      out.side = up > lo ? 1 : -1;
+      out.relative = rel;
+    }
+  }
+  return out;
 }
 
 }  // namespace itp::qp::scan
