@@ -176,8 +176,12 @@ TEST_CASE("unscaled feasibility: rows of norm 1e3..1e12 on a fixed variable: opt
       CAPTURE(s);
       build_reproducer(in->problem, s, upper);
       const QpStatus st = in->solve();
-      // An honest status: the problem is feasible (x = (0.3, 0)).
+      // An honest status: the problem is feasible (x = (0.3, 0)). For
+      // s = 1e6..1e8 the row and the bound of x1 are dependent for the
+      // singular_tolerance test and the ray fails its check (docs/qp.md,
+      // "Feasibility contract"): numerical trouble, as before the fix.
       REQUIRE((st == QpStatus::kOptimal || st == QpStatus::kNumericalTrouble));
+      if (s <= 1e5 || s >= 3e8) CHECK(st == QpStatus::kOptimal);
       if (st != QpStatus::kOptimal) {
         ++trouble;
         continue;
@@ -199,8 +203,7 @@ TEST_CASE("unscaled feasibility: rows of norm 1e3..1e12 on a fixed variable: opt
     }
   }
   MESSAGE("reproducer family: " << optimal << " optimal, " << trouble << " numerical_trouble");
-  // s >= 1e9 (x1 = 0.3 / s below the bound tolerance): solved, 5 of each orientation.
-  CHECK(optimal >= 2 * 7);
+  CHECK(optimal == 2 * 8);
 }
 
 TEST_CASE("unscaled feasibility: random QPs with rows of norm 1e6..1e12 and fixed variables") {
