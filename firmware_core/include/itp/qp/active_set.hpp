@@ -310,8 +310,9 @@ struct ActiveSetSolver {
   // data: x finite, and every active constraint within its bounds up to
   // primal_tolerance + refactor_tolerance (1 + |b|), on the row scaled to unit
   // norm (b its bound; the same relative accuracy that the working set's
-  // residual check accepts). Inactive constraints were just checked by the
-  // scan, which cannot miss a violation while x is finite.
+  // residual check accepts), and within the unscaled contract (within_unscaled
+  // below). Inactive constraints were just checked by the scan (both tests),
+  // which cannot miss a violation while x is finite.
   // Scaled violation of constraint c minus its final tolerance (<= 0: fine).
   S excess_violation(int c) const {
     const S ax = dot_a(c, ws.x);
@@ -322,16 +323,75 @@ struct ActiveSetSolver {
     return v - (s.primal_tolerance + s.refactor_tolerance * (S(1) + b));
   }
 
+  // The unscaled contract (docs/qp.md, "Feasibility contract"): the violation
+  // v of constraint c at x, in the problem's own units, is at most
+  // unscaled_tolerance() max(1, sum_k |a_k x_k|, |b|). A row of norm |a| >> 1
+  // passes the unit-row test above with v up to (primal_tolerance + ...) |a|
+  // whatever x and b are; this test ties v to the magnitudes that a'x and b
+  // actually have.
+  S unscaled_tolerance() const { return s.primal_tolerance + s.refactor_tolerance; }
+
+  // v <= unscaled_tolerance() max(1, mag, |b|) for a'x = ax, mag = sum |a_k x_k|,
+  // all in the same units (pw: the exact power of two they are scaled by).
+  bool within_unscaled(S ax, S mag, S lo, S hi, S pw) const {
+    const S up = ax - hi;
+    const S dn = lo - ax;
+    const S b = std::abs(up > dn ? hi : lo);
+    if (b > mag) mag = b;
+    if (mag < pw) mag = pw;
+    return (up > dn ? up : dn) <= unscaled_tolerance() * mag;
+  }
+
+  // Both tests of constraint c at x: excess_violation(c) <= 0 (the same
+  // arithmetic, inlined) and the unscaled contract, whose sum sum |a_k x_k| is
+  // needed only when v exceeds the tolerance (max(1, ...) >= 1). A row scaled
+  // by pw != 1 is tested on the row times pw (the same inequality; no
+  // overflow for a huge row).
+  bool constraint_verified(int c) const {
+    if (is_bound(c)) {
+      const S ax = ws.x[c];
+      const S up = ax - p.ub[c];
+      const S lo = p.lb[c] - ax;
+      const S v = up > lo ? up : lo;  // row_scale of a bound is 1
+      const S b = std::abs(up > lo ? p.ub[c] : p.lb[c]);
+      if (!(v - (s.primal_tolerance + s.refactor_tolerance * (S(1) + b)) <= S(0))) return false;
+      // max(1, ...) >= 1: a violation up to the tolerance passes at once.
+      return v <= unscaled_tolerance() || within_unscaled(ax, std::abs(ax), p.lb[c], p.ub[c], S(1));
+    }
+    const int r = c - kN;
+    const S pw = row_power(c);
+    if (pw != S(1)) {
+      if (!(excess_violation(c) <= S(0))) return false;
+      S ax = S(0), mag = S(0);
+      for (int k = 0; k < p.a_nnz[r]; ++k) {
+        const S prod = (p.a_val[r][k] * pw) * ws.x[p.a_col[r][k]];
+        ax += prod;
+        mag += std::abs(prod);
+      }
+      return within_unscaled(ax, mag, p.lba[r] * pw, p.uba[r] * pw, pw);
+    }
+    const S ax = p.row_dot(r, ws.x);
+    const S up = ax - p.uba[r];
+    const S lo = p.lba[r] - ax;
+    const S v = (up > lo ? up : lo) * ws.row_scale[c];
+    const S b = std::abs(up > lo ? p.uba[r] : p.lba[r]) * ws.row_scale[c];
+    if (!(v - (s.primal_tolerance + s.refactor_tolerance * (S(1) + b)) <= S(0))) return false;
+    if ((up > lo ? up : lo) <= unscaled_tolerance()) return true;  // as for a bound
+    S mag = S(0);
+    for (int k = 0; k < p.a_nnz[r]; ++k) mag += std::abs(p.a_val[r][k] * ws.x[p.a_col[r][k]]);
+    return within_unscaled(ax, mag, p.lba[r], p.uba[r], S(1));
+  }
+
   bool primal_verified() const {
     for (int j = 0; j < p.n; ++j) {
       if (!std::isfinite(ws.x[j])) return false;
     }
     for (int i = 0; i < ws.w_size; ++i) {
-      if (!(excess_violation(ws.w_index[i]) <= S(0))) return false;
+      if (!constraint_verified(ws.w_index[i])) return false;
     }
     if (ws.set_aside > 0) {
       for (int c = 0; c < kC; ++c) {
-        if (ws.active_side[c] == kSetAside && !(excess_violation(c) <= S(0))) return false;
+        if (ws.active_side[c] == kSetAside && !constraint_verified(c)) return false;
       }
     }
     return true;
@@ -506,6 +566,16 @@ struct ActiveSetSolver {
           if (c < 0 && (precise || ws.proximal_weight > S(0))) {
             polish();
             c = scan::most_violated(p, ws, s.primal_tolerance, bland, &side);
+          }
+          if (c < 0) {
+            // No row is violated on the unit row; one may still be in its own
+            // units beyond the contract (a row of large norm, x and b small):
+            // it is violated all the same, so it enters W like any other.
+            const scan::UnscaledViolation<S> unscaled = scan::unscaled_violated(p, ws, s.primal_tolerance, unscaled_tolerance());
+            if (unscaled.constraint >= 0) {
+              c = unscaled.constraint;
+              side = unscaled.side;
+            }
           }
           if (c < 0) {
             const S resid = active_residual();

@@ -120,4 +120,65 @@ int most_violated(const QpProblem<D>& p, QpWorkspace<D>& ws, typename D::Scalar 
   return best;
 }
 
+// A row that the unit-row test accepts although its violation breaks the
+// unscaled contract (docs/qp.md, "Feasibility contract"):
+//   v = max(a'x - ub, lb - a'x) > tolerance * max(1, sum_k |a_k x_k|, |b|)
+// (b the bound on the violated side). The unit-row test alone lets a row of
+// norm |a| be violated by primal_tolerance |a| whatever x and b are: 0.3 on a
+// row of norm 1e9 at x = 0 (the fuzz finding of docs/fuzzing.md). Bounds
+// never qualify: their test is absolute and primal_tolerance <= tolerance.
+template <typename S>
+struct UnscaledViolation {
+  int constraint = -1;  // constraint id (rows N..), -1: none
+  int side = 0;
+  S relative = S(0);  // v / max(1, sum |a_k x_k|, |b|) of that row
+};
+
+// The inactive row of largest relative violation v / max(1, sum |a_k x_k|, |b|)
+// above `tolerance`, right after most_violated() returned -1 at this x (its
+// certificates and prefix sums are those of this x). Only a row of norm above
+// tolerance / primal_tolerance can pass the unit-row test (v <= primal_tolerance
+// |a|) and still break the contract (v > tolerance, as max(1, ...) >= 1), so
+// the others are skipped on their row_scale = 1/|a| alone; so is a row whose
+// certificate proves a positive slack (row_cert - P_r > 0), and a row is
+// summed only when v > tolerance. The scan of every iteration is unchanged;
+// this costs one comparison per row per candidate optimum (and a certificate
+// test for rows of large norm). Active and set-aside constraints are checked
+// by the caller's final verification.
+template <class D>
+UnscaledViolation<typename D::Scalar> unscaled_violated(const QpProblem<D>& p, const QpWorkspace<D>& ws,
+                                                        typename D::Scalar primal_tolerance,
+                                                        typename D::Scalar tolerance) {
+  using S = typename D::Scalar;
+  constexpr int kN = D::kMaxVariables;
+  UnscaledViolation<S> out;
+  // Rows with 1/|a| >= primal_tolerance / tolerance cannot qualify.
+  const S min_scale = primal_tolerance / tolerance;
+  const S* pre = ws.path_prefix;
+  const S* scale = ws.row_scale + kN;
+  const std::int8_t* row_active = ws.active_side + kN;
+  for (int r = 0; r < p.m; ++r) {
+    if (scale[r] >= min_scale || row_active[r] != 0) continue;
+    const S travelled = pre[ws.row_end_block[r]] - pre[ws.row_first_block[r]];
+    if (ws.row_cert[r] - travelled > S(0)) continue;
+    const S ax = p.row_dot(r, ws.x);
+    const S up = ax - p.uba[r];
+    const S lo = p.lba[r] - ax;
+    const S v = up > lo ? up : lo;
+    if (!(v > tolerance)) continue;
+    S mag = S(0);
+    for (int k = 0; k < p.a_nnz[r]; ++k) mag += std::abs(p.a_val[r][k] * ws.x[p.a_col[r][k]]);
+    const S b = std::abs(up > lo ? p.uba[r] : p.lba[r]);
+    if (b > mag) mag = b;
+    if (mag < S(1)) mag = S(1);
+    const S rel = v / mag;
+    if (rel > tolerance && rel > out.relative) {
+      out.constraint = kN + r;
+      out.side = up > lo ? 1 : -1;
+      out.relative = rel;
+    }
+  }
+  return out;
+}
+
 }  // namespace itp::qp::scan

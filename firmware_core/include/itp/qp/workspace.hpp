@@ -17,6 +17,9 @@ struct QpSettings {
   static constexpr bool kDouble = std::is_same_v<S, double>;
   // Max violation of a constraint, measured on the row scaled to unit 2-norm,
   // that still counts as satisfied (also the final feasibility check of x).
+  // An optimal x also meets, in the problem's own units, violation <=
+  // (primal_tolerance + refactor_tolerance) max(1, sum_k |a_k x_k|, |b|)
+  // (docs/qp.md, "Feasibility contract").
   S primal_tolerance = kDouble ? S(1e-9) : S(2e-4);
   // Multipliers above -dual_tolerance count as non-negative (then clamped to 0).
   S dual_tolerance = kDouble ? S(1e-12) : S(1e-6);
