@@ -143,16 +143,17 @@ struct DefaultSizes {
   static constexpr int kMaxCoarseIterationsPerCycle = 300;  // their iterations (max 1210, p99.9 292)
   static constexpr int kMaxPathIterationsPerCycle = 270;    // path-QP iterations (max 853, p99.9 379): failed
                                                             // QPs rationed, the largest term of the bound
-  static constexpr int kMaxSpeedSolvesPerCycle = 12;        // speed QPs (max 14, p99.9 8)
-  static constexpr int kMaxSpeedIterationsPerCycle = 450;   // their iterations (max 498, p99.9 184)
+  static constexpr int kMaxSpeedSolvesPerCycle = 8;         // speed QPs (max 14, p99.9 8)
+  static constexpr int kMaxSpeedIterationsPerCycle = 300;   // their iterations (max 498, p99.9 184)
   // One budget for the three QP stages together (core/work_ledger.hpp): each
   // coarse, path and speed QP's setup and each of its iterations costs its
   // worst measured cost on the reference target, in thousands of Cortex-M7
   // instructions (`make wcet-measure`: upper envelope over the default and the
   // stress suite x 1.2, rounded up; `make wcet` fails when a refit exceeds
   // them). A cycle may spend kQpWorkPerCycle of them: the stages' budgets
-  // above sum to 41.5 M instructions, this caps their sum at 22 M. Seeds 1-10
-  // without it: the ok cycles it would have stopped, 1-14 per 24 000.
+  // above sum to 41.5 M instructions, this caps their sum at 22 M. Seeds 1-10,
+  // fallbacks against no budgets: +0.31..+0.92 % of cycles (the stage budgets
+  // alone: +0.27..+0.79 %; docs/performance.md, "Worst case").
   static constexpr int kQpWorkPerCycle = 22000;       // [k instructions]
   static constexpr int kCoarseQpSetupWork = 115;      // per coarse QP
   static constexpr int kCoarseIterationWork = 11;     // per coarse-QP iteration

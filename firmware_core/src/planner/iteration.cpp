@@ -195,24 +195,17 @@ void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, con
   if (!room_for_speed_qp(out)) {
     return;
   }
-  // Keeping ahead of a follower is a wish, not a constraint: a speed QP that
-  // fails with it is solved again without it, and once that happened the
-  // cycle's later speed plans go without it from the start (its failure is
-  // certified at the cost of a whole solve, some 70 iterations, and the
-  // iteration's later steps, on nearly the same path, failed the same way:
-  // ZAM_Tutorial spent its speed budget on these).
-  speed::BasicStParams<Cfg> st_params = ctx.inputs.st;
-  st_params.keep_ahead = st_params.keep_ahead && !keep_ahead_failed_;
-  st_.build(path_, ctx.sl->tracks(), st_params, s_guess, v_guess, bounds_);
+  st_.build(path_, ctx.sl->tracks(), ctx.inputs.st, s_guess, v_guess, bounds_);
   si.a_min = bounds_.a_min;
   solve_speed(ctx, out);
   if (!qp::is_usable(speed_.status) && !speed_budget_out_ && st_.kept_ahead()) {
-    keep_ahead_failed_ = true;
     if (!room_for_speed_qp(out)) {
       return;
     }
-    st_params.keep_ahead = false;
-    st_.build(path_, ctx.sl->tracks(), st_params, s_guess, v_guess, bounds_);
+    // Keeping ahead of a follower is a wish, not a constraint: without it.
+    speed::BasicStParams<Cfg> without = ctx.inputs.st;
+    without.keep_ahead = false;
+    st_.build(path_, ctx.sl->tracks(), without, s_guess, v_guess, bounds_);
     si.a_min = bounds_.a_min;
     solve_speed(ctx, out);
   }

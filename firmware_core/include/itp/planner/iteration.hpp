@@ -62,7 +62,6 @@ class BasicIteration {
   void begin_cycle() {
     search_.begin_cycle();
     speed_budget_out_ = false;
-    keep_ahead_failed_ = false;
     qp_work_.begin(Cfg::kQpWorkPerCycle);
   }
 
@@ -103,7 +102,6 @@ class BasicIteration {
   SpeedOptimizer speed_opt_{};
   SpeedResult speed_{};
   bool speed_budget_out_ = false;  // a speed budget (itp/config.hpp) ran out this cycle
-  bool keep_ahead_failed_ = false;  // a speed QP keeping ahead of a follower failed this cycle
   WorkLedger qp_work_{};           // the cycle's QP work: coarse, path and speed QPs
 };
 
