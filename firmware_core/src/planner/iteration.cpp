@@ -192,14 +192,14 @@ void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, con
   speed::BasicSpeedInput<Cfg>& si = ctx.inputs.speed;
   // Every ST graph build is followed by a speed QP, whose setup cost includes
   // the build (kSpeedSolveSetupWork): no build without room for that QP.
-  if (!room_for_speed_qp(out)) {
+  if (speed_qp_room(out) <= 0) {
     return;
   }
   st_.build(path_, ctx.sl->tracks(), ctx.inputs.st, s_guess, v_guess, bounds_);
   si.a_min = bounds_.a_min;
   solve_speed(ctx, out);
   if (!qp::is_usable(speed_.status) && !speed_budget_out_ && st_.kept_ahead()) {
-    if (!room_for_speed_qp(out)) {
+    if (speed_qp_room(out) <= 0) {
       return;
     }
     // Keeping ahead of a follower is a wish, not a constraint: without it.
@@ -216,21 +216,16 @@ void BasicIteration<Cfg>::plan_speed(Context& ctx, const StSamples& s_guess, con
 }
 
 template <class Cfg>
-int BasicIteration<Cfg>::speed_iterations_left(const BasicPlan<Cfg>& out) const {
+int BasicIteration<Cfg>::speed_qp_room(const BasicPlan<Cfg>& out) {
   const int left = out.timing.speed_solves >= Cfg::kMaxSpeedSolvesPerCycle
                        ? 0
                        : Cfg::kMaxSpeedIterationsPerCycle - out.timing.speed_iterations;
-  return qp_work_.grant(Cfg::kSpeedSolveSetupWork, Cfg::kSpeedIterationWork, left);
-}
-
-template <class Cfg>
-bool BasicIteration<Cfg>::room_for_speed_qp(const BasicPlan<Cfg>& out) {
-  if (speed_iterations_left(out) > 0) {
-    return true;
+  const int granted = qp_work_.grant(Cfg::kSpeedSolveSetupWork, Cfg::kSpeedIterationWork, left);
+  if (granted <= 0) {
+    speed_ = SpeedResult{};  // kInvalidInput: not usable
+    speed_budget_out_ = true;
   }
-  speed_ = SpeedResult{};  // kInvalidInput: not usable
-  speed_budget_out_ = true;
-  return false;
+  return granted;
 }
 
 template <class Cfg>
@@ -238,10 +233,10 @@ void BasicIteration<Cfg>::solve_speed(Context& ctx, BasicPlan<Cfg>& out) {
   // WCET: <= kMaxSpeedSolvesPerCycle speed QPs (each after at most one ST
   // graph build) with kMaxSpeedIterationsPerCycle iterations in all, per
   // cycle, within the cycle's QP work.
-  if (!room_for_speed_qp(out)) {
+  const int left = speed_qp_room(out);
+  if (left <= 0) {
     return;
   }
-  const int left = speed_iterations_left(out);
   speed_opt_.solve(ctx.inputs.speed, bounds_, ctx.settings->speed_weights, speed_, left);
   qp_work_.charge(Cfg::kSpeedSolveSetupWork, Cfg::kSpeedIterationWork, speed_.iterations);
   ++out.qp_solves;

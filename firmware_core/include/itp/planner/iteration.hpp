@@ -87,10 +87,8 @@ class BasicIteration {
                          BasicPlan<Cfg>& out);
   void plan_speed(Context& ctx, const StSamples& s_guess, const StSamples& v_guess, BasicPlan<Cfg>& out);
   // Speed-QP iterations the next solve may take within the cycle's speed
-  // budgets and QP work (0: spent).
-  int speed_iterations_left(const BasicPlan<Cfg>& out) const;
-  // False (speed_ not usable, speed_budget_out_ set) when none is left.
-  bool room_for_speed_qp(const BasicPlan<Cfg>& out);
+  // budgets and QP work; 0 (speed_ not usable, speed_budget_out_ set): spent.
+  int speed_qp_room(const BasicPlan<Cfg>& out);
   // One speed QP within them (else speed_ is not usable and speed_budget_out_ is set).
   void solve_speed(Context& ctx, BasicPlan<Cfg>& out);
   void sample_trajectory(const ReferenceLine& reference, const StartState& start, BasicPlan<Cfg>& out) const;
