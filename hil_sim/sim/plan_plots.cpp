@@ -108,8 +108,8 @@ std::string plot_xy(const itp::planner::BasicPlanner<Cfg>& planner, const itp::s
   const auto& line = planner.reference_line();
   double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
   std::vector<Point2> left, right, ref;
-  const double s0 = std::max(0.0, planner.path_start() - 10);
-  const double s1 = std::min(static_cast<double>(line.length()), planner.path_start() + planner.path_length() + 5);
+  const double s0 = std::max(0.0, static_cast<double>(planner.path_start()) - 10);
+  const double s1 = std::min(static_cast<double>(line.length()), static_cast<double>(planner.path_start() + planner.path_length()) + 5);
   for (double s = s0; s <= s1; s += 1.0) {
     const auto r = line.evaluate(s);
     const auto at = [&](double l) {
@@ -168,7 +168,7 @@ std::string plot_st(const itp::planner::BasicPlanner<Cfg>& planner, const itp::p
                     const std::string& title) {
   const auto& bounds = planner.speed_bounds();
   double s_max = 10;
-  for (const auto& p : plan.trajectory) s_max = std::max(s_max, p.s - planner.path_start());
+  for (const auto& p : plan.trajectory) s_max = std::max(s_max, static_cast<double>(p.s - planner.path_start()));
   for (double v : bounds.s_ref) s_max = std::max(s_max, v);
   Canvas c(1400, 380);
   c.set_view(0, Cfg::kSpeedHorizon, 0, s_max * 1.1, false);
