@@ -1,7 +1,7 @@
 // Keeping ahead of a follower (speed/keep_ahead.hpp): the lower bounds are
 // never ahead of a motion the ego can drive (holding its speed, then the
-// latest braking that keeps every upper bound), checked against the
-// kinematics worked out by hand.
+// latest braking that keeps every bound), checked against the kinematics
+// worked out by hand.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -16,6 +16,16 @@ using Cfg = itp::DefaultConfig;
 namespace {
 
 constexpr double kDt = 7.0 / Cfg::kSpeedSamples;  // [s]
+constexpr Scalar kNoLimit = std::numeric_limits<Scalar>::infinity();
+
+SpeedBounds bounds(double s_hi, double v_hi) {
+  SpeedBounds b;
+  for (int k = 0; k < Cfg::kStSamples; ++k) {
+    b.s_hi[static_cast<std::size_t>(k)] = s_hi;
+    b.v_hi[static_cast<std::size_t>(k)] = v_hi;
+  }
+  return b;
+}
 
 }  // namespace
 
@@ -30,53 +40,49 @@ TEST_CASE("latest braking: hold the speed, then brake at the last sample that st
   StParams p;
   p.v0 = 20;
   p.a0 = 0;
-  SpeedBounds b;
-  for (int k = 0; k < Cfg::kStSamples; ++k) {
-    b.s_hi[static_cast<std::size_t>(k)] = 100;
-    b.v_hi[static_cast<std::size_t>(k)] = 30;
-  }
-  BasicEgoProfile<Cfg> hold;
-  holding(p, b, Scalar(-3), hold);
-  for (int k = 0; k < Cfg::kStSamples; ++k) {
-    CHECK(hold.s[static_cast<std::size_t>(k)] == doctest::Approx(20.0 * kDt * k));
-  }
-  std::array<Scalar, Cfg::kStSamples> late{};
-  REQUIRE(latest_braking(b, hold, Scalar(-3), std::numeric_limits<Scalar>::infinity(), Scalar(0.005), late));
+  SpeedBounds b = bounds(100, 30);
   const double t_switch = (100.0 - (20.0 * 0.5 - 3.0 * 0.25 / 6.0 + 19.25 * 19.25 / 6.0)) / 20.0;
   REQUIRE(t_switch == doctest::Approx(1.418).epsilon(1e-3));
+  const int m = latest_braking(p, b, Scalar(-3), kNoLimit, Scalar(0.005));
+  CHECK(m == 14);
+  std::array<Scalar, Cfg::kStSamples> s{};
+  braking_motion(p, m, Scalar(-3), s);
   for (int k = 0; k < Cfg::kStSamples; ++k) {
     const double t = kDt * k;
-    const double s = late[static_cast<std::size_t>(k)];
-    CHECK(s <= 100.0 + 0.005);
-    if (t <= 1.4 + 1e-9) CHECK(s == doctest::Approx(20.0 * t));  // still holding
-    if (t >= 1.5 - 1e-9) CHECK(s < 20.0 * t);                     // braking
+    const double sk = s[static_cast<std::size_t>(k)];
+    CHECK(sk <= 100.0 + 0.005);
+    if (t <= 1.4 + 1e-9) CHECK(sk == doctest::Approx(20.0 * t));  // still holding
+    if (t >= 1.5 - 1e-9) CHECK(sk < 20.0 * t - 1e-3);             // braking
   }
-  CHECK(late.back() == doctest::Approx(28.0 + 9.875 + 19.25 * 5.1 - 1.5 * 5.1 * 5.1).epsilon(1e-3));
+  CHECK(s.back() == doctest::Approx(28.0 + 9.875 + 19.25 * 5.1 - 1.5 * 5.1 * 5.1).epsilon(1e-3));
+  // Further off (200 m): holding to the horizon's end (140 m), braking after it (71.64 m).
+  b = bounds(220, 30);
+  CHECK(latest_braking(p, b, Scalar(-3), kNoLimit, Scalar(0.005)) == Cfg::kStSamples - 1);
+  b = bounds(205, 30);
+  CHECK(latest_braking(p, b, Scalar(-3), kNoLimit, Scalar(0.005)) < Cfg::kStSamples - 1);
   // A bound that braking from now cannot meet: none.
-  for (auto& s : b.s_hi) s = 60;
-  CHECK_FALSE(latest_braking(b, hold, Scalar(-3), std::numeric_limits<Scalar>::infinity(), Scalar(0.005), late));
+  b = bounds(60, 30);
+  CHECK(latest_braking(p, b, Scalar(-3), kNoLimit, Scalar(0.005)) == -1);
   // Bounds at or beyond s_limit (the end of the planned path) are no stop.
-  CHECK(latest_braking(b, hold, Scalar(-3), Scalar(60), Scalar(0.005), late));
-  CHECK(late.back() == doctest::Approx(20.0 * 7.0));
+  CHECK(latest_braking(p, b, Scalar(-3), Scalar(60), Scalar(0.005)) == Cfg::kStSamples - 1);
 }
 
-TEST_CASE("holding: a speed bound that falls faster than braking is met by braking earlier") {
-  // v_hi drops from 30 to 5 m/s at 6 s. At 3 m/s^2 the ego gets from 20 to
-  // 5 m/s in 5 s: it holds 20 m/s up to 1 s, then follows 5 + 3 (6 - t).
+TEST_CASE("latest braking: a speed bound that falls is met in time") {
+  // v_hi drops from 30 to 5 m/s at 6 s. From 20 m/s the ramp leaves 19.25
+  // m/s after 0.5 s and 3 m/s^2 takes 4.75 s more to 5 m/s: 5.25 s in all,
+  // so braking starts by 0.75 s: the latest sample 0.7 s.
   StParams p;
   p.v0 = 20;
-  SpeedBounds b;
+  SpeedBounds b = bounds(1000, 30);
   for (int k = 0; k < Cfg::kStSamples; ++k) {
-    b.s_hi[static_cast<std::size_t>(k)] = 1000;
-    b.v_hi[static_cast<std::size_t>(k)] = kDt * k < 6.0 - 1e-9 ? 30 : 5;
+    if (kDt * k >= 6.0 - 1e-9) b.v_hi[static_cast<std::size_t>(k)] = 5;
   }
-  BasicEgoProfile<Cfg> hold;
-  holding(p, b, Scalar(-3), hold);
-  for (int k = 1; k < Cfg::kStSamples; ++k) {
-    const auto u = static_cast<std::size_t>(k);
-    const double t = kDt * k;
-    const double expected = std::min(20.0, t < 6.0 - 1e-9 ? 5.0 + 3.0 * (6.0 - t) : 5.0);
-    CHECK(hold.v[u] == doctest::Approx(expected));
-    CHECK(hold.v[u] >= hold.v[u - 1] - 3.0 * kDt - 1e-9);  // never braking harder than 3 m/s^2
+  const int m = latest_braking(p, b, Scalar(-3), kNoLimit, Scalar(0.005));
+  CHECK(m == 7);
+  std::array<Scalar, Cfg::kStSamples> s{};
+  braking_motion(p, m, Scalar(-3), s);
+  // Its speed from the distances: at most 5 m/s from 6 s on.
+  for (int k = 61; k < Cfg::kStSamples; ++k) {
+    CHECK((s[static_cast<std::size_t>(k)] - s[static_cast<std::size_t>(k - 1)]) / kDt <= 5.0 + 0.01);
   }
 }

@@ -12,130 +12,142 @@ namespace {
 template <class Cfg>
 constexpr Scalar kDt = Cfg::kSpeedHorizon / static_cast<Scalar>(Cfg::kSpeedSamples);  // [s]
 constexpr Scalar kRampTime = Scalar(0.5);  // [s] one speed-QP block
-// Steps of braking simulated beyond the horizon: from 60 m/s at 3 m/s^2
-// after the ramp, at the default 0.1 s.
-constexpr int kStopSteps = 210;
+
+// The ego holding its speed up to sample m, then braking (latest_braking in
+// keep_ahead.hpp), stepped sample by sample: no arrays (the ST graph's build
+// is on the firmware's deepest stack path, and RAM is budgeted).
+template <class Cfg>
+class Motion {
+ public:
+  Motion(const BasicStParams<Cfg>& p, int m, Scalar decel)
+      : m_(m), decel_(decel), a_start_(min_of(p.a0, p.limits.a_max)), v_(max_of(p.v0, Scalar(0))), a_(a_start_) {}
+
+  Scalar s() const { return s_; }
+  Scalar v() const { return v_; }
+
+  // From sample k to k + 1.
+  void step(int k) {
+    Scalar a_next = 0;
+    if (k < m_) {
+      const Scalar t = kDt<Cfg> * static_cast<Scalar>(k + 1);
+      a_next = t < kRampTime ? a_start_ * (Scalar(1) - t / kRampTime) : Scalar(0);
+    } else {
+      if (k == m_) {
+        rate_ = max_of(a_ - decel_, Scalar(0)) / kRampTime;  // [m/s^3] to decel within one block
+      }
+      a_next = max_of(decel_, a_ - rate_ * kDt<Cfg>);
+    }
+    // Stopping within the step counts as the whole step at the mean of v and
+    // 0: more than the true distance (upper bounds stay kept).
+    const Scalar v_next = max_of(v_ + Scalar(0.5) * (a_ + a_next) * kDt<Cfg>, Scalar(0));
+    s_ += Scalar(0.5) * (v_ + v_next) * kDt<Cfg>;
+    v_ = v_next;
+    a_ = v_ > 0 ? a_next : Scalar(0);
+  }
+
+  // An upper bound of the distance still to go to a stop once braking (after
+  // the horizon): the rest of the ramp at the highest speed it reaches, then
+  // braking at decel from the speed at the ramp's end.
+  Scalar stopping_distance() const {
+    if (!(v_ > 0)) {
+      return 0;
+    }
+    const Scalar rate = rate_ > 0 ? rate_ : max_of(a_ - decel_, Scalar(0)) / kRampTime;
+    const Scalar tau = rate > 0 ? max_of(a_ - decel_, Scalar(0)) / rate : Scalar(0);  // [s] ramp left
+    const Scalar v_top = v_ + (a_ > 0 ? a_ * a_ / (Scalar(2) * rate) : Scalar(0));
+    const Scalar v_end = max_of(v_ + Scalar(0.5) * (a_ + decel_) * tau, Scalar(0));
+    return v_top * tau + v_end * v_end / (Scalar(-2) * decel_);
+  }
+
+ private:
+  int m_;
+  Scalar decel_;
+  Scalar a_start_;
+  Scalar s_ = 0;
+  Scalar v_;
+  Scalar a_;
+  Scalar rate_ = 0;
+};
+
+// Whether the motion with switch m keeps s_hi (below s_limit) and v_hi at
+// every sample, and stops before a stop at the horizon's end.
+template <class Cfg>
+bool keeps_bounds(const BasicStParams<Cfg>& p, const BasicSpeedBounds<Cfg>& b, int m, Scalar decel, Scalar s_limit,
+                  Scalar tolerance) {
+  constexpr Scalar kSpeedTolerance = Scalar(0.01);  // [m/s]
+  Motion<Cfg> w(p, m, decel);
+  for (int k = 0; k + 1 < Cfg::kStSamples; ++k) {  // Cfg::kStSamples - 1 steps
+    w.step(k);
+    const auto u = static_cast<std::size_t>(k + 1);
+    if ((b.s_hi[u] < s_limit && w.s() > b.s_hi[u] + tolerance) || w.v() > b.v_hi[u] + kSpeedTolerance) {
+      return false;
+    }
+  }
+  const auto last = static_cast<std::size_t>(Cfg::kStSamples - 1);
+  // A stop at the horizon's end stays: the motion must stop before it after
+  // the horizon too (braking after the horizon when it holds to the end).
+  return !(b.s_hi[last] < s_limit) || w.s() + w.stopping_distance() <= b.s_hi[last] + tolerance;
+}
 
 }  // namespace
 
 template <class Cfg>
-void holding(const BasicStParams<Cfg>& p, const BasicSpeedBounds<Cfg>& b, Scalar decel, BasicEgoProfile<Cfg>& r) {
-  constexpr int kN = Cfg::kStSamples;
-  // The speed bound as a motion can meet it: where it drops faster than
-  // braking at `decel` takes the speed down, the bound before it is lowered
-  // (backwards).
-  r.v_cap[static_cast<std::size_t>(kN - 1)] = max_of(b.v_hi[static_cast<std::size_t>(kN - 1)], Scalar(0));
-  for (int k = kN - 2; k >= 0; --k) {  // Cfg::kStSamples - 1
-    const auto u = static_cast<std::size_t>(k);
-    r.v_cap[u] = max_of(min_of(b.v_hi[u], r.v_cap[u + 1] - decel * kDt<Cfg>), Scalar(0));
+int latest_braking(const BasicStParams<Cfg>& p, const BasicSpeedBounds<Cfg>& b, Scalar decel, Scalar s_limit,
+                   Scalar tolerance) {
+  // The latest switch first (the common case: no stop within reach), then a
+  // bisection for the latest that keeps the bounds (a later switch is a
+  // motion further along; every result is checked, so a bound that breaks
+  // the order costs keep-ahead room, never feasibility).
+  // WCET: <= 2 + log2(Cfg::kStSamples) motions of Cfg::kStSamples steps.
+  int hi = Cfg::kStSamples - 1;
+  if (keeps_bounds(p, b, hi, decel, s_limit, tolerance)) {
+    return hi;
   }
-  Scalar s = 0;
-  Scalar v = max_of(p.v0, Scalar(0));
-  const Scalar a_start = min_of(p.a0, p.limits.a_max);
-  for (int k = 0; k < kN; ++k) {  // Cfg::kStSamples
-    const auto u = static_cast<std::size_t>(k);
-    const Scalar t = kDt<Cfg> * static_cast<Scalar>(k);
-    const Scalar ramp = t < kRampTime ? t / kRampTime : Scalar(1);
-    const Scalar a = a_start * (Scalar(1) - ramp);
-    r.s[u] = s;
-    r.v[u] = v;
-    r.a[u] = a;
-    if (k + 1 == kN) {
-      break;
+  if (!keeps_bounds(p, b, 0, decel, s_limit, tolerance)) {
+    return -1;
+  }
+  int lo = 0;  // keeps the bounds; hi does not
+  while (hi - lo > 1) {  // <= log2(Cfg::kStSamples) bisections
+    const int mid = (lo + hi) / 2;
+    if (keeps_bounds(p, b, mid, decel, s_limit, tolerance)) {
+      lo = mid;
+    } else {
+      hi = mid;
     }
-    // Below the next sample's cap, as far as braking at decel gets there.
-    const Scalar cap = max_of(r.v_cap[u + 1], v + decel * kDt<Cfg>);
-    const Scalar v_next = max_of(min_of(v + a * kDt<Cfg>, cap), Scalar(0));
-    s += Scalar(0.5) * (v + v_next) * kDt<Cfg>;
-    v = v_next;
   }
+  return lo;
 }
 
 template <class Cfg>
-bool latest_braking(const BasicSpeedBounds<Cfg>& b, const BasicEgoProfile<Cfg>& r, Scalar decel, Scalar s_limit,
-                    Scalar tolerance, std::array<Scalar, Cfg::kStSamples>& late) {
-  constexpr int kN = Cfg::kStSamples;
-  const auto keeps = [&](int k, Scalar s) {
-    const Scalar hi = b.s_hi[static_cast<std::size_t>(k)];
-    return hi >= s_limit || s <= hi + tolerance;
-  };
-  const bool stop_at_end = b.s_hi[static_cast<std::size_t>(kN - 1)] < s_limit;
-  // The held motion itself keeps the bounds up to sample `prefix` - 1.
-  int prefix = 0;
-  while (prefix < kN && keeps(prefix, r.s[static_cast<std::size_t>(prefix)])) {  // <= Cfg::kStSamples
-    ++prefix;
+void braking_motion(const BasicStParams<Cfg>& p, int m, Scalar decel, std::array<Scalar, Cfg::kStSamples>& s) {
+  Motion<Cfg> w(p, m, decel);
+  s[0] = 0;
+  for (int k = 0; k + 1 < Cfg::kStSamples; ++k) {  // Cfg::kStSamples - 1 steps
+    w.step(k);
+    s[static_cast<std::size_t>(k + 1)] = w.s();
   }
-  for (int m = prefix - 1; m >= 0; --m) {  // <= Cfg::kStSamples switches, the latest first
-    const auto um = static_cast<std::size_t>(m);
-    Scalar s = r.s[um];
-    Scalar v = r.v[um];
-    Scalar a = r.a[um];
-    const Scalar rate = max_of(a - decel, Scalar(0)) / kRampTime;  // [m/s^3]
-    bool ok = true;
-    for (int j = m + 1; j < kN && ok; ++j) {  // Cfg::kStSamples
-      const Scalar a_next = max_of(decel, a - rate * kDt<Cfg>);
-      Scalar v_next = v + Scalar(0.5) * (a + a_next) * kDt<Cfg>;
-      // Stopping within the step: counted as the whole step at the mean of v
-      // and 0, more than the true distance (upper bounds stay kept). Below
-      // the speed cap (it drops no faster than braking at decel).
-      v_next = max_of(min_of(v_next, r.v_cap[static_cast<std::size_t>(j)]), Scalar(0));
-      s += Scalar(0.5) * (v + v_next) * kDt<Cfg>;
-      v = v_next;
-      a = v > 0 ? a_next : Scalar(0);
-      ok = keeps(j, s);
-    }
-    // A stop at the horizon's end stays: the motion must stop before it
-    // beyond the horizon too (at most kStopSteps more steps; the speed cap
-    // no longer applies).
-    for (int j = 0; j < kStopSteps && ok && v > 0 && stop_at_end; ++j) {  // kStopSteps
-      const Scalar a_next = max_of(decel, a - rate * kDt<Cfg>);
-      const Scalar v_next = max_of(v + Scalar(0.5) * (a + a_next) * kDt<Cfg>, Scalar(0));
-      s += Scalar(0.5) * (v + v_next) * kDt<Cfg>;
-      v = v_next;
-      a = a_next;
-      ok = keeps(kN - 1, s);
-    }
-    if (!ok || (stop_at_end && v > 0)) {
-      continue;
-    }
-    // Fill the motion: held up to m, braking after it (as simulated).
-    s = r.s[um];
-    v = r.v[um];
-    a = r.a[um];
-    for (int j = 0; j < kN; ++j) {  // Cfg::kStSamples
-      const auto u = static_cast<std::size_t>(j);
-      if (j <= m) {
-        late[u] = r.s[u];
-        continue;
-      }
-      const Scalar a_next = max_of(decel, a - rate * kDt<Cfg>);
-      const Scalar v_next = max_of(min_of(v + Scalar(0.5) * (a + a_next) * kDt<Cfg>, r.v_cap[u]), Scalar(0));
-      s += Scalar(0.5) * (v + v_next) * kDt<Cfg>;
-      v = v_next;
-      a = v > 0 ? a_next : Scalar(0);
-      late[u] = s;
-    }
-    return true;
-  }
-  return false;
 }
 
 template <class Cfg>
 bool keep_ahead(const BasicStDecision<Cfg>& d, const BasicDynamicTrack<Cfg>& tr,
-                const path::BasicPathResult<Cfg>& path, const BasicStParams<Cfg>& p,
-                const std::array<Scalar, Cfg::kStSamples>& late, BasicSpeedBounds<Cfg>& b) {
-  constexpr Scalar kInLine = Scalar(0.5);      // [m] beyond the ego's half width: beside it, not behind
-  // Kept from the latest braking: the speed QP's C2 spline follows the
-  // profile's acceleration ramps only approximately.
-  constexpr Scalar kSlack = Scalar(0.2);      // [m]
+                const path::BasicPathResult<Cfg>& path, const BasicStParams<Cfg>& p, int m, Scalar decel,
+                BasicSpeedBounds<Cfg>& b) {
+  constexpr Scalar kInLine = Scalar(0.5);  // [m] beyond the ego's half width: beside it, not behind
+  // Kept from the motion: the speed QP's C2 spline follows its acceleration
+  // ramps only approximately.
+  constexpr Scalar kSlack = Scalar(0.2);       // [m]
   constexpr Scalar kSlackRate = Scalar(0.05);  // [m/s] more per second on
   bool raised = false;
-  for (int k = d.k1; k >= 0 && k <= d.k2; ++k) {  // <= Cfg::kStSamples
+  Motion<Cfg> w(p, m, decel);
+  for (int k = 0; k <= d.k2 && k < Cfg::kStSamples; ++k) {  // <= Cfg::kStSamples
+    if (k > 0) {
+      w.step(k - 1);
+    }
     const auto u = static_cast<std::size_t>(k);
     // At the speed spline's knots only: between them the spline follows the
     // knots closely, and a bound at every sample made the speed QP activate
     // one row after the other (tens of active-set iterations per solve).
-    if (!d.conflict[u] || k % Cfg::kSpeedSamplesPerBlock != 0) {
+    if (k < d.k1 || !d.conflict[u] || k % Cfg::kSpeedSamplesPerBlock != 0) {
       continue;
     }
     const geometry::SlBox& box = tr.box[u];
@@ -143,7 +155,7 @@ bool keep_ahead(const BasicStDecision<Cfg>& d, const BasicDynamicTrack<Cfg>& tr,
     if (std::fabs(Scalar(0.5) * (box.l_min + box.l_max) - path.eval(s_mid, 0)) > p.half_width + kInLine) {
       continue;
     }
-    const Scalar lo = min_of(d.s_hi[u], late[u] - kSlack - kSlackRate * kDt<Cfg> * static_cast<Scalar>(k));
+    const Scalar lo = min_of(d.s_hi[u], w.s() - kSlack - kSlackRate * kDt<Cfg> * static_cast<Scalar>(k));
     if (lo > b.s_lo[u]) {
       b.s_lo[u] = lo;
       raised = true;
@@ -154,12 +166,11 @@ bool keep_ahead(const BasicStDecision<Cfg>& d, const BasicDynamicTrack<Cfg>& tr,
 
 // Explicit instantiations for every configuration (itp/configurations.hpp).
 #define ITP_INSTANTIATE(C)                                                                                   \
-  template void holding<C>(const BasicStParams<C>&, const BasicSpeedBounds<C>&, Scalar, BasicEgoProfile<C>&);   \
-  template bool latest_braking<C>(const BasicSpeedBounds<C>&, const BasicEgoProfile<C>&, Scalar, Scalar,     \
-                                  Scalar, std::array<Scalar, C::kStSamples>&);                               \
+  template int latest_braking<C>(const BasicStParams<C>&, const BasicSpeedBounds<C>&, Scalar, Scalar, Scalar); \
+  template void braking_motion<C>(const BasicStParams<C>&, int, Scalar, std::array<Scalar, C::kStSamples>&);  \
   template bool keep_ahead<C>(const BasicStDecision<C>&, const BasicDynamicTrack<C>&,                        \
-                              const path::BasicPathResult<C>&, const BasicStParams<C>&,                      \
-                              const std::array<Scalar, C::kStSamples>&, BasicSpeedBounds<C>&);
+                              const path::BasicPathResult<C>&, const BasicStParams<C>&, int, Scalar,         \
+                              BasicSpeedBounds<C>&);
 ITP_FOR_EACH_CONFIG(ITP_INSTANTIATE)
 #undef ITP_INSTANTIATE
 

@@ -337,12 +337,10 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
     constexpr Scalar kTolerance = Scalar(0.005);  // [m]
     const Scalar path_limit = p.path_end >= 0 ? p.path_end - p.s0 - p.front : inf;
     const Scalar decel = max_of(p.comfort_decel, p.limits.a_min);
-    holding(p, b, decel, hold_);
-    if (latest_braking(b, hold_, decel, path_limit, kTolerance, late_)) {
-      for (std::size_t i = 0; i < decisions_.size(); ++i) {  // <= kMaxDynamicObstacles
-        if (decisions_[i].follower && keep_ahead(decisions_[i], tracks[i], path, p, late_, b)) {
-          kept_ahead_ = true;
-        }
+    const int m = latest_braking(p, b, decel, path_limit, kTolerance);
+    for (std::size_t i = 0; i < decisions_.size() && m >= 0; ++i) {  // <= kMaxDynamicObstacles
+      if (decisions_[i].follower && keep_ahead(decisions_[i], tracks[i], path, p, m, decel, b)) {
+        kept_ahead_ = true;
       }
     }
   }

@@ -18,35 +18,32 @@
 
 namespace itp::speed {
 
-// The ego holding its speed: its acceleration ramps from a0 to 0 within one
-// speed-QP block (the speed spline is C2), its speed then stays, below the
-// speed bound v_hi, lowered (v_cap) where v_hi later drops faster than
-// braking at `decel` (< 0) follows. Keeping ahead of a follower asks for no
-// more than this (and the latest braking after it): not braking before what
-// lies ahead needs. (Asking for the furthest reachable motion, at a_max,
-// pinned the speed QP to it within 0.2 m, and a C2 spline does not follow
-// such a profile that closely: infeasible.)
+// The motion the keep-ahead bound never asks more than: the ego holding its
+// speed (acceleration a0 -> 0 within one speed-QP block: the spline is C2) up
+// to sample m, then braking (acceleration ramped to `decel` < 0 within one
+// block, then held to a stop). Holding, not the furthest reachable motion at
+// a_max: asking for that pinned the speed QP within 0.2 m of it, and a C2
+// spline does not follow such a profile that closely (infeasible).
+//
+// The latest m whose motion keeps every upper bound s_hi below `s_limit`
+// (bounds at or beyond it, the end of the planned path, are not a stop) with
+// `tolerance`, and every speed bound v_hi, and stops before a stop at the
+// horizon's end after the horizon too; -1 when even braking at once does not.
 template <class Cfg>
-void holding(const BasicStParams<Cfg>& p, const BasicSpeedBounds<Cfg>& b, Scalar decel, BasicEgoProfile<Cfg>& r);
+int latest_braking(const BasicStParams<Cfg>& p, const BasicSpeedBounds<Cfg>& b, Scalar decel, Scalar s_limit,
+                   Scalar tolerance);
 
-// The latest braking: `r` (holding) up to a switch sample, then the
-// acceleration ramps down to `decel` (< 0) within one speed-QP block (the
-// spline's acceleration is continuous) and holds it to a stop; the latest switch whose motion stays within every upper bound s_hi
-// below `s_limit` (bounds at or beyond it, the end of the planned path, are
-// not a stop), with `tolerance`. Fills `late` and returns true; false when
-// even braking at once (switch 0) crosses a bound.
-// WCET: <= Cfg::kStSamples switches x Cfg::kStSamples samples.
+// That motion's speed-s at every ST sample (for checks).
 template <class Cfg>
-bool latest_braking(const BasicSpeedBounds<Cfg>& b, const BasicEgoProfile<Cfg>& r, Scalar decel, Scalar s_limit,
-                    Scalar tolerance, std::array<Scalar, Cfg::kStSamples>& late);
+void braking_motion(const BasicStParams<Cfg>& p, int m, Scalar decel, std::array<Scalar, Cfg::kStSamples>& s);
 
 // Where the follower's footprint is in line with the path, the ego's rear
 // stays ahead of its front by the conflict zone's margin, but never ahead of
-// `late` (holding the speed, then the latest braking at comfort_decel: a
-// motion that keeps every bound) less a slack growing with time. Returns whether a lower bound of `b` was raised.
+// the motion (m, decel) less a slack growing with time; at the speed spline's
+// knots. Returns whether a lower bound of `b` was raised.
 template <class Cfg>
 bool keep_ahead(const BasicStDecision<Cfg>& d, const BasicDynamicTrack<Cfg>& tr,
-                const path::BasicPathResult<Cfg>& path, const BasicStParams<Cfg>& p,
-                const std::array<Scalar, Cfg::kStSamples>& late, BasicSpeedBounds<Cfg>& b);
+                const path::BasicPathResult<Cfg>& path, const BasicStParams<Cfg>& p, int m, Scalar decel,
+                BasicSpeedBounds<Cfg>& b);
 
 }  // namespace itp::speed

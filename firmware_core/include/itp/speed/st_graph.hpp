@@ -126,15 +126,6 @@ struct BasicStParams {
   const decision::BasicCurvatureProfile<Cfg>* kappa_ref = nullptr;
 };
 
-// A motion of the ego at the ST samples (keep_ahead.hpp).
-template <class Cfg>
-struct BasicEgoProfile {
-  std::array<Scalar, Cfg::kStSamples> s{};  // [m] speed-s
-  std::array<Scalar, Cfg::kStSamples> v{};  // [m/s]
-  std::array<Scalar, Cfg::kStSamples> a{};  // [m/s^2]
-  std::array<Scalar, Cfg::kStSamples> v_cap{};  // [m/s] the speed bound a motion can meet
-};
-
 template <class Cfg>
 class BasicStGraph {
  public:
@@ -160,10 +151,6 @@ class BasicStGraph {
  private:
   StaticVector<StDecision, Cfg::kMaxDynamicObstacles> decisions_;
   bool kept_ahead_ = false;
-  // Keeping ahead of followers (keep_ahead.hpp): holding the speed and the
-  // latest braking, members rather than on the stack.
-  BasicEgoProfile<Cfg> hold_{};
-  std::array<Scalar, Cfg::kStSamples> late_{};
 };
 
 // The reference profile: from v0, accelerate at a_max (or brake at a_min) towards
