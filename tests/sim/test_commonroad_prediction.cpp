@@ -75,3 +75,38 @@ TEST_CASE("USA_Peach-4_8: the oncoming car 520 on the curve passes the standing 
   CHECK(lane > 0.8);
   CHECK(closest_to_standing_ego(w, Prediction::kGroundTruth, 520) > 0.8);
 }
+
+TEST_CASE("USA_Peach-4_8: the southbound queue stops at red light 43920 in the lane prediction, as in the recording") {
+  // Light 43920 (lanelets 43343, 43208, 43349, ending at y = 26.6 m) is
+  // yellow from 0 s and red from 2 s. The queue cars 566 and 569 brake for
+  // it and stand at y = 24.6 - 24.9 m by 6 s (the recording; NGSIM's stop
+  // positions lie a few metres past the lanelets' end). At 3 s both would
+  // reach the line on red: predicted to stop (before the change: through the
+  // intersection, 20 m and more beyond it).
+  const World w = import_file("USA_Peach-4_8_T-1.xml");
+  auto scene = std::make_unique<itp::scene::Scene>();
+  EgoNow ego = ego_at_start(w);
+  REQUIRE(make_planner_scene(w, ego, 3.0, Prediction::kLane, *scene).ok);
+  int checked = 0;
+  for (const auto& o : scene->dynamic_obstacles) {
+    if (o.id != 566 && o.id != 569) continue;
+    ++checked;
+    double lowest_front = std::numeric_limits<double>::infinity();
+    for (const auto& p : o.trajectory) lowest_front = std::min(lowest_front, p.y - 0.5 * o.length);  // heading south
+    MESSAGE(o.id, ": front lowest at y = ", lowest_front);
+    CHECK(lowest_front > 26.0 - 0.5);  // never past the line (y 26.5 - 26.6) by more than the heading's slant
+  }
+  CHECK(checked == 2);
+  // The lanes with the light carry it, its stop line at their end.
+  int with_light = 0;
+  for (const Lane& l : w.lanes) {
+    if (l.id == 43343 || l.id == 43208 || l.id == 43349) {
+      ++with_light;
+      REQUIRE(l.traffic_lights.size() == 1);
+      CHECK(light_color(l.traffic_lights[0], 1.9) == "yellow");
+      CHECK(light_color(l.traffic_lights[0], 2.0) == "red");
+      CHECK(l.stop_s == doctest::Approx(polyline_arc_lengths(l.centre).back()));
+    }
+  }
+  CHECK(with_light == 3);
+}
