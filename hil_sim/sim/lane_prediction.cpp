@@ -123,7 +123,8 @@ TrackMotion track_motion(const LaneMap& map, const LaneTrack& track, double v, d
     const double arrival = room / m.speed;  // [s] at constant speed
     if (!map.stop_at(stop.lane, now + arrival, true)) continue;  // not red then: it drives through
     const double decel = m.speed * m.speed / (2.0 * room);
-    if (decel > kRedLightMaxDecel) continue;  // cannot stop comfortably: it drives on
+    const double limit = map.stop_at(stop.lane, now, true) ? kRedLightFirmDecel : kRedLightMaxDecel;
+    if (decel > limit) continue;  // cannot stop: it drives on
     m.stops = true;
     m.decel = decel;
     m.t_stop = m.speed / decel;

@@ -33,14 +33,18 @@ inline constexpr int kMaxTrackLanes = 64;
 // a stop line while its lane's lights show red (or redYellow) at the time it
 // gets there at its current speed (the cycles are known) brakes evenly to
 // stand kStopLineGap before the line, if that needs at most kRedLightMaxDecel
-// (the deceleration yellow intervals are designed for, ITE: 10 ft/s^2; one
-// that would need more drives on). One that gets there during yellow drives
+// (the deceleration yellow intervals are designed for, ITE: 10 ft/s^2), or
+// kRedLightFirmDecel when the light shows red already; one that would need
+// more drives on. One that gets there during yellow drives
 // on (it may enter on yellow; predicting a stop it does not make would be
 // the unsafe error for whoever crosses its path). It stands until the lights
 // show no stop colour (red, yellow, redYellow), then accelerates at
 // kGreenStartAccel back to its speed. Only the first stop line where it stops
 // is modelled.
 inline constexpr double kRedLightMaxDecel = 3.05;  // [m/s^2]
+// ... and when the light shows red already (its driver has had the whole
+// yellow to slow down): firm braking, not an emergency stop.
+inline constexpr double kRedLightFirmDecel = 5.0;  // [m/s^2]
 inline constexpr double kStopLineGap = 0.5;        // [m] front bumper to the line
 inline constexpr double kGreenStartAccel = 2.0;    // [m/s^2]
 

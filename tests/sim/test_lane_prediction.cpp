@@ -363,6 +363,10 @@ TEST_CASE("lane prediction: through a green light, through a yellow it cannot st
   yellow_red.cycle = {{"yellow", 2.0}, {"red", 100.0}};
   CHECK(last_x(yellow_red, 17.0, 0.0) == doctest::Approx(18.0 + 17.0 * 6.0));
   CHECK(last_x(yellow_red, 15.0, 0.0) < 60.0);
+  // Red already (now = 3 s): up to 5 m/s^2 (19.9 m/s over 39.5 m needs 5.01).
+  CHECK(last_x(yellow_red, 17.0, 3.0) < 60.0);
+  CHECK(last_x(yellow_red, 19.8, 3.0) < 60.0);
+  CHECK(last_x(yellow_red, 19.9, 3.0) == doctest::Approx(18.0 + 19.9 * 6.0));
   // Green now, red when it gets there (4 s at 10 m/s): it stops. Red now,
   // green before it gets there: it drives on.
   TrafficLightCycle turning_red;
@@ -395,7 +399,7 @@ TEST_CASE("scene/1 extension lanes: traffic lights written and read back, malfor
   CHECK(back.world->lanes[1].traffic_lights[0].cycle[2].color == "red");
   CHECK(back.world->lanes[1].traffic_lights[0].cycle[2].duration == 57.0);
   std::string text = scene_to_text(w);
-  const std::size_t at = text.find("\"duration\"");
+  const std::size_t at = text.find("\"duration\"", text.find("\"traffic_lights\""));
   REQUIRE(at != std::string::npos);
   text.replace(at, 10, "\"length\"");
   const SceneParseResult bad = parse_scene_text(text);
