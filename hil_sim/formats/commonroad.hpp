@@ -74,7 +74,29 @@ struct Lanelet {
   std::optional<Neighbour> right;
   std::vector<std::string> types;     // laneletType elements
   std::vector<long> traffic_signs;    // trafficSignRef
+  std::vector<long> traffic_lights;   // trafficLightRef (of the lanelet and of its stopLine)
+  // <stopLine>: its two points when given (else the stop line is the
+  // lanelet's end, CommonRoad 2020a).
+  std::vector<Vec2> stop_line;
   std::optional<double> speed_limit;  // [m/s] 2018b <speedLimit>
+  int line = 0;
+};
+
+// A <trafficLight> (2020a): its cycle repeats; the state at time step k is the
+// cycle element holding phase (k - time_offset) mod (sum of the durations),
+// counted from the first element (commonroad-io's
+// TrafficLight.get_state_at_time_step).
+struct TrafficLightPhase {
+  std::string color;  // "red", "yellow", "redYellow", "green", "inactive"
+  long duration = 0;  // time steps, > 0
+};
+
+struct TrafficLight {
+  long id = 0;
+  std::vector<TrafficLightPhase> cycle;  // >= 1 element
+  long time_offset = 0;                  // time steps
+  std::string direction = "all";         // all, left, straight, right, leftStraight, ...
+  bool active = true;
   int line = 0;
 };
 
@@ -111,10 +133,10 @@ struct Scenario {
   double time_step = 0.1;     // [s] timeStepSize
   std::vector<Lanelet> lanelets;
   std::vector<TrafficSign> traffic_signs;
+  std::vector<TrafficLight> traffic_lights;
   std::vector<Obstacle> obstacles;  // static and dynamic, file order
   std::vector<PlanningProblem> planning_problems;
-  // Content read past on purpose (traffic lights, intersections, environment
-  // obstacles, ...), one line each, for the importer's notes.
+  // Content read past on purpose (intersections, environment obstacles, ...), one line each, for the importer's notes.
   std::vector<std::string> ignored;
 };
 

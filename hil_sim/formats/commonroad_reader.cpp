@@ -292,6 +292,24 @@ class Reader {
       if (!id_attribute(r, "ref", where + ": trafficSignRef", ref)) return false;
       l.traffic_signs.push_back(ref);
     }
+    auto add_light = [&](long ref) {
+      if (std::find(l.traffic_lights.begin(), l.traffic_lights.end(), ref) == l.traffic_lights.end()) {
+        l.traffic_lights.push_back(ref);
+      }
+    };
+    for (xml_node r : n.children("trafficLightRef")) {
+      long ref = 0;
+      if (!id_attribute(r, "ref", where + ": trafficLightRef", ref)) return false;
+      add_light(ref);
+    }
+    if (const xml_node stop = n.child("stopLine")) {
+      if (stop.child("point") && !points(stop, where + ": stopLine", 2, l.stop_line)) return false;
+      for (xml_node r : stop.children("trafficLightRef")) {
+        long ref = 0;
+        if (!id_attribute(r, "ref", where + ": stopLine: trafficLightRef", ref)) return false;
+        add_light(ref);
+      }
+    }
     if (n.child("speedLimit")) {
       double v = 0;
       if (!number(n, "speedLimit", where, v)) return false;
@@ -321,6 +339,47 @@ class Reader {
     }
     s.is_virtual = trimmed(n.child("virtual").child_value()) == "true";
     sc.traffic_signs.push_back(std::move(s));
+    return true;
+  }
+
+  // <trafficLight>: <cycle> of <cycleElement> (<duration> in time steps,
+  // <color>) and an optional <timeOffset>; <direction>, <active>.
+  bool traffic_light(xml_node n, Scenario& sc) {
+    TrafficLight t;
+    t.line = line_of(n);
+    if (!id_attribute(n, "id", "trafficLight", t.id)) return false;
+    const std::string where = fmt::format("trafficLight {}", t.id);
+    const xml_node cycle = n.child("cycle");
+    if (!cycle) return fail(n, where, "<cycle> missing");
+    int k = 0;
+    for (xml_node e : cycle.children("cycleElement")) {
+      const std::string at = fmt::format("{}: cycleElement {}", where, k++);
+      TrafficLightPhase ph;
+      double d = 0;
+      if (!number(e, "duration", at, d)) return false;
+      if (!(d > 0) || d != std::floor(d) || d > 1e9) {
+        return fail(e, at, fmt::format("<duration> {} is not a positive whole number of time steps", d));
+      }
+      ph.duration = static_cast<long>(d);
+      ph.color = std::string(trimmed(e.child("color").child_value()));
+      if (ph.color != "red" && ph.color != "yellow" && ph.color != "redYellow" && ph.color != "green" &&
+          ph.color != "inactive") {
+        return fail(e, at, fmt::format("<color> '{}' is none of red, yellow, redYellow, green, inactive", ph.color));
+      }
+      t.cycle.push_back(std::move(ph));
+    }
+    if (t.cycle.empty()) return fail(cycle, where, "<cycle> without a <cycleElement>");
+    if (cycle.child("timeOffset")) {
+      double off = 0;
+      if (!number(cycle, "timeOffset", where, off)) return false;
+      if (off != std::floor(off) || std::fabs(off) > 1e9) {
+        return fail(cycle, where, fmt::format("<timeOffset> {} is not a whole number of time steps", off));
+      }
+      t.time_offset = static_cast<long>(off);
+    }
+    if (const xml_node d = n.child("direction")) t.direction = std::string(trimmed(d.child_value()));
+    if (const xml_node a = n.child("active")) t.active = trimmed(a.child_value()) != "false";
+    sc.traffic_lights.push_back(std::move(t));
     return true;
   }
 
@@ -421,6 +480,8 @@ class Reader {
         ok = lanelet(n, sc);
       } else if (name == "trafficSign") {
         ok = traffic_sign(n, sc);
+      } else if (name == "trafficLight") {
+        ok = traffic_light(n, sc);
       } else if (name == "staticObstacle" || name == "dynamicObstacle") {
         ok = obstacle(n, name == "dynamicObstacle", sc);
       } else if (name == "obstacle") {  // 2018b: one element, <role> static / dynamic
@@ -441,7 +502,7 @@ class Reader {
       } else if (name == "planningProblem") {
         ok = planning_problem(n, sc);
       } else if (name != "location" && name != "scenarioTags") {
-        ++skipped[name];  // trafficLight, intersection, environmentObstacle, ...
+        ++skipped[name];  // intersection, environmentObstacle, ...
       }
       if (!ok) return false;
     }

@@ -195,8 +195,15 @@ double scenario_duration(const cr::Scenario& sc, const cr::PlanningProblem& p, s
 
 // The lane map of the lane-following prediction (World::lanes): every vehicle
 // lanelet (not a sidewalk, crosswalk or bicycle lane) with its centre line,
-// bounds and successors.
-void map_lanes(const cr::Scenario& sc, World& w) {
+// bounds and successors, and its active traffic lights with the stop line
+// (its points' midpoint projected onto the centre line; without points the
+// lanelet's end).
+void map_lanes(const cr::Scenario& sc, World& w, std::vector<std::string>& notes) {
+  std::map<long, const cr::TrafficLight*> lights;
+  for (const cr::TrafficLight& t : sc.traffic_lights) lights.emplace(t.id, &t);
+  int with_lights = 0;
+  int inactive = 0;
+  std::vector<long> missing;
   for (const cr::Lanelet& l : sc.lanelets) {
     const bool vehicle = std::none_of(l.types.begin(), l.types.end(), [](const std::string& t) {
       return t == "sidewalk" || t == "crosswalk" || t == "bicycleLane";
@@ -213,7 +220,44 @@ void map_lanes(const cr::Scenario& sc, World& w) {
     for (const cr::Vec2& p : l.right_bound) lane.right.push_back({p.x, p.y});
     lane.successors = l.successors;
     if (lane.centre.size() < 2) continue;
+    for (long ref : l.traffic_lights) {
+      const auto it = lights.find(ref);
+      if (it == lights.end()) {
+        missing.push_back(ref);
+        continue;
+      }
+      if (!it->second->active) {
+        ++inactive;
+        continue;
+      }
+      TrafficLightCycle c;
+      c.time_offset = static_cast<double>(it->second->time_offset) * sc.time_step;
+      for (const cr::TrafficLightPhase& ph : it->second->cycle) {
+        c.cycle.push_back({ph.color, static_cast<double>(ph.duration) * sc.time_step});
+      }
+      lane.traffic_lights.push_back(std::move(c));
+    }
+    if (!lane.traffic_lights.empty()) {
+      ++with_lights;
+      const std::vector<double> arc = polyline_arc_lengths(lane.centre);
+      lane.stop_s = arc.back();
+      if (l.stop_line.size() >= 2) {
+        const cr::Vec2& a = l.stop_line.front();
+        const cr::Vec2& b = l.stop_line.back();
+        lane.stop_s = std::clamp(project_to_polyline(lane.centre, 0.5 * (a.x + b.x), 0.5 * (a.y + b.y)).s, 0.0, arc.back());
+      }
+    }
     w.lanes.push_back(std::move(lane));
+  }
+  if (!sc.traffic_lights.empty()) {
+    notes.push_back(fmt::format("{} traffic lights on {} lanes: the lane-following prediction stops traffic at their "
+                                "stop lines{}",
+                                sc.traffic_lights.size(), with_lights,
+                                inactive > 0 ? fmt::format(" ({} references to inactive lights left out)", inactive) : ""));
+  }
+  if (!missing.empty()) {
+    notes.push_back(fmt::format("{} trafficLightRef to lights the file does not have (first: {}): left out",
+                                missing.size(), missing.front()));
   }
 }
 
@@ -248,7 +292,7 @@ CommonRoadImport map_commonroad(const cr::Scenario& sc, const CommonRoadOptions&
   // The lanelets in the shifted frame.
   cr::Scenario shifted = sc;
   for (cr::Lanelet& l : shifted.lanelets) {
-    for (auto* bound : {&l.left_bound, &l.right_bound}) {
+    for (auto* bound : {&l.left_bound, &l.right_bound, &l.stop_line}) {
       for (cr::Vec2& p : *bound) p = {p.x - frame.dx, p.y - frame.dy};
     }
   }
@@ -337,7 +381,7 @@ CommonRoadImport map_commonroad(const cr::Scenario& sc, const CommonRoadOptions&
     out.notes.push_back(fmt::format("speed limit {:.2f} m/s from the max-speed sign of {}", *signed_limit, source));
   }
   if (!map_obstacles(sc, frame, w, out)) return out;
-  map_lanes(shifted, w);
+  map_lanes(shifted, w, out.notes);
   if (!opt.speed_limit && !signed_limit) {
     // No sign: 50 km/h, but not below the speeds the scenario starts with.
     double fastest = w.ego.v;

@@ -69,6 +69,7 @@ LaneTrack LaneMap::track(const LaneMatch& m, double length) const {
   t.lanes.push_back(lanes_[cur].id);
   used.insert(lanes_[cur].id);
   t.arc = polyline_arc_lengths(t.line);
+  if (!lanes_[cur].traffic_lights.empty()) t.stops.push_back({lanes_[cur].stop_s, cur});
   for (int k = 1; k < kMaxTrackLanes && t.arc.back() < m.s + length; ++k) {
     const Lane& here = lanes_[cur];
     const double end_dir = direction(here.centre[here.centre.size() - 2], here.centre.back());
@@ -89,6 +90,9 @@ LaneTrack LaneMap::track(const LaneMatch& m, double length) const {
     cur = *next;
     used.insert(lanes_[cur].id);
     t.lanes.push_back(lanes_[cur].id);
+    // The successor starts where the track ends (its first point is within
+    // kJoinMerge of it, or the joint is a short straight piece).
+    if (!lanes_[cur].traffic_lights.empty()) t.stops.push_back({t.arc.back() + lanes_[cur].stop_s, cur});
     for (const Point2& p : lanes_[cur].centre) {
       if (std::hypot(p.x - t.line.back().x, p.y - t.line.back().y) < kJoinMerge) continue;
       t.line.push_back(p);
@@ -96,6 +100,51 @@ LaneTrack LaneMap::track(const LaneMatch& m, double length) const {
     t.arc = polyline_arc_lengths(t.line);
   }
   return t;
+}
+
+bool LaneMap::stop_at(std::size_t lane, double t, bool arriving) const {
+  const std::vector<TrafficLightCycle>& lights = lanes_[lane].traffic_lights;
+  if (lights.empty()) return false;
+  return std::all_of(lights.begin(), lights.end(), [&](const TrafficLightCycle& c) {
+    const std::string& color = light_color(c, t);
+    return arriving ? color == "red" || color == "redYellow" : is_stop_color(color);
+  });
+}
+
+TrackMotion track_motion(const LaneMap& map, const LaneTrack& track, double v, double front, double now,
+                         double horizon) {
+  constexpr double kLightScanStep = 0.05;  // [s] the lights are looked up this often while it stands
+  TrackMotion m;
+  m.speed = std::max(0.0, v);
+  if (!(m.speed > 0.0)) return m;  // standing: it stays (as without lights)
+  for (const TrackStop& stop : track.stops) {
+    const double room = stop.s - kStopLineGap - (track.s0 + front);  // [m] front to where it stands
+    if (room <= 0.0) continue;  // at or past the line: it drives on
+    const double arrival = room / m.speed;  // [s] at constant speed
+    if (!map.stop_at(stop.lane, now + arrival, true)) continue;  // not red then: it drives through
+    const double decel = m.speed * m.speed / (2.0 * room);
+    const double limit = map.stop_at(stop.lane, now, true) ? kRedLightFirmDecel : kRedLightMaxDecel;
+    if (decel > limit) continue;  // cannot stop: it drives on
+    m.stops = true;
+    m.decel = decel;
+    m.t_stop = m.speed / decel;
+    m.stand = room;
+    // It stands until no stop colour shows (looked up to the horizon's end).
+    m.t_green = m.t_stop;
+    while (m.t_green <= horizon && map.stop_at(stop.lane, now + m.t_green)) m.t_green += kLightScanStep;
+    return m;
+  }
+  return m;
+}
+
+double track_distance(const TrackMotion& m, double t) {
+  if (!m.stops) return m.speed * t;
+  if (t <= m.t_stop) return m.speed * t - 0.5 * m.decel * t * t;
+  if (t <= m.t_green) return m.stand;
+  const double go = t - m.t_green;
+  const double t_up = m.speed / kGreenStartAccel;  // [s] back at its speed
+  if (go <= t_up) return m.stand + 0.5 * kGreenStartAccel * go * go;
+  return m.stand + 0.5 * kGreenStartAccel * t_up * t_up + m.speed * (go - t_up);
 }
 
 Pose track_pose(const LaneTrack& track, double distance, double t) {
@@ -106,16 +155,17 @@ Pose track_pose(const LaneTrack& track, double distance, double t) {
 }
 
 std::optional<std::vector<Pose>> predict_along_lanes(const LaneMap& map, const Pose& centre, double v,
-                                                     std::span<const double> times) {
+                                                     std::span<const double> times, double now, double front) {
   if (map.empty() || times.empty()) return std::nullopt;
   const std::optional<LaneMatch> m = map.match(centre);
   if (!m) return std::nullopt;
   const double speed = std::max(0.0, v);
-  const LaneTrack track = map.track(*m, speed * times.back() + 1.0);
+  const LaneTrack track = map.track(*m, speed * times.back() + front + 1.0);
+  const TrackMotion motion = track_motion(map, track, speed, front, now, times.back());
   std::vector<Pose> out;
   out.reserve(times.size());
   for (double t : times) {
-    out.push_back(t <= 0.0 ? centre : track_pose(track, speed * t, t));
+    out.push_back(t <= 0.0 ? centre : track_pose(track, track_distance(motion, t), t));
   }
   return out;
 }

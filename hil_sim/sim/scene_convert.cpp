@@ -193,7 +193,7 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
     // Along its lane (not a pedestrian's), else straight on.
     std::optional<std::vector<Pose>> along_lane;
     if (mode == Prediction::kLane && o.kind != "pedestrian") {
-      along_lane = predict_along_lanes(lanes, *current, v_now, times);
+      along_lane = predict_along_lanes(lanes, *current, v_now, times, now, 0.5 * o.length);
     }
     itp::scene::BasicDynamicObstacle<Cfg> d;
     d.id = o.id;

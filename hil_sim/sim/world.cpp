@@ -24,6 +24,25 @@ double wrap_angle(double a) {
   return a - kPi;
 }
 
+const std::string& light_color(const TrafficLightCycle& light, double t) {
+  static const std::string kNone = "inactive";
+  double total = 0.0;
+  for (const LightPhase& ph : light.cycle) total += ph.duration;
+  if (light.cycle.empty() || !(total > 0.0) || !std::isfinite(t)) return kNone;
+  double phase = std::fmod(t - light.time_offset, total);
+  if (phase < 0.0) phase += total;
+  // Half a microsecond of slack: a phase boundary given in time steps (0.1 s)
+  // lands on it despite the float division.
+  constexpr double kEdge = 5e-7;
+  for (const LightPhase& ph : light.cycle) {
+    if (phase + kEdge < ph.duration) return ph.color;
+    phase -= ph.duration;
+  }
+  return light.cycle.back().color;
+}
+
+bool is_stop_color(const std::string& color) { return color == "red" || color == "yellow" || color == "redYellow"; }
+
 double Boundary::at(double s) const {
   if (knots.empty()) {
     return constant;
@@ -222,11 +241,22 @@ void to_json(json& j, const World& w) {
         for (const Point2& p : line) arr.push_back(json::array({p.x, p.y}));
         return arr;
       };
-      lanes.push_back({{"id", l.id},
-                       {"centre", points(l.centre)},
-                       {"left", points(l.left)},
-                       {"right", points(l.right)},
-                       {"successors", l.successors}});
+      json jl = {{"id", l.id},
+                 {"centre", points(l.centre)},
+                 {"left", points(l.left)},
+                 {"right", points(l.right)},
+                 {"successors", l.successors}};
+      if (!l.traffic_lights.empty()) {
+        json lights = json::array();
+        for (const TrafficLightCycle& c : l.traffic_lights) {
+          json cycle = json::array();
+          for (const LightPhase& ph : c.cycle) cycle.push_back({{"color", ph.color}, {"duration", ph.duration}});
+          lights.push_back({{"cycle", std::move(cycle)}, {"time_offset", c.time_offset}});
+        }
+        jl["traffic_lights"] = std::move(lights);
+        jl["stop_s"] = l.stop_s;
+      }
+      lanes.push_back(std::move(jl));
     }
     j["lanes"] = std::move(lanes);
   }
@@ -404,6 +434,37 @@ void from_json(const json& j, World& w) {
           if (!id.is_number_integer()) fail(where, "\"successors\" must be a list of lane ids");
           lane.successors.push_back(id.get<long>());
         }
+      }
+      if (jl.contains("traffic_lights")) {
+        const json& lights = jl.at("traffic_lights");
+        if (!lights.is_array()) fail(where, "\"traffic_lights\" must be a list of traffic lights");
+        for (std::size_t k = 0; k < lights.size(); ++k) {
+          const std::string at = fmt::format("{}.traffic_lights[{}]", where, k);
+          const json& jt = lights[k];
+          if (!jt.is_object() || !jt.contains("cycle") || !jt.at("cycle").is_array() || jt.at("cycle").empty()) {
+            fail(at, "must be an object with a non-empty \"cycle\"");
+          }
+          TrafficLightCycle c;
+          for (const json& ph : jt.at("cycle")) {
+            if (!ph.is_object() || !ph.contains("color") || !ph.at("color").is_string() || !ph.contains("duration") ||
+                !ph.at("duration").is_number() || !(ph.at("duration").get<double>() > 0) ||
+                !std::isfinite(ph.at("duration").get<double>())) {
+              fail(at, "every cycle phase must be {\"color\": string, \"duration\": seconds > 0}");
+            }
+            c.cycle.push_back({ph.at("color").get<std::string>(), ph.at("duration").get<double>()});
+          }
+          if (jt.contains("time_offset")) {
+            if (!jt.at("time_offset").is_number() || !std::isfinite(jt.at("time_offset").get<double>())) {
+              fail(at, "\"time_offset\" must be a finite number of seconds");
+            }
+            c.time_offset = jt.at("time_offset").get<double>();
+          }
+          lane.traffic_lights.push_back(std::move(c));
+        }
+        if (!jl.contains("stop_s") || !jl.at("stop_s").is_number() || !std::isfinite(jl.at("stop_s").get<double>())) {
+          fail(where, "a lane with \"traffic_lights\" needs \"stop_s\" (a finite number of metres)");
+        }
+        lane.stop_s = jl.at("stop_s").get<double>();
       }
       out.lanes.push_back(std::move(lane));
     }

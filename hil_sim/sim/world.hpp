@@ -84,12 +84,34 @@ struct DynamicObstacle {
 // One lane of the optional extension "lanes" (the CommonRoad import writes its
 // vehicle lanelets): the map the lane-following prediction moves obstacles
 // along (docs/simulation.md, "Predictions"). Other readers may ignore it.
+// A traffic light's fixed cycle (CommonRoad 2020a <trafficLight>): at time t
+// it shows the phase that holds (t - time_offset) mod (the durations' sum),
+// counted from the first phase.
+struct LightPhase {
+  std::string color;      // "red", "yellow", "redYellow", "green", "inactive"
+  double duration = 0.0;  // [s] > 0
+};
+struct TrafficLightCycle {
+  std::vector<LightPhase> cycle;  // >= 1 phase
+  double time_offset = 0.0;       // [s]
+};
+
+// The colour `light` shows at scene time t [s].
+const std::string& light_color(const TrafficLightCycle& light, double t);
+// Whether a colour tells traffic to stop before the line: red, yellow,
+// redYellow (not green, not inactive).
+bool is_stop_color(const std::string& color);
+
 struct Lane {
   long id = 0;
   std::vector<Point2> centre;  // [m] centre line, driving direction, >= 2 points
   std::vector<Point2> left;    // [m] left bound, driving direction, >= 2 points
   std::vector<Point2> right;   // [m] right bound, driving direction, >= 2 points
   std::vector<long> successors;
+  // The lane's traffic lights (optional): traffic stops before `stop_s`
+  // (arc length along `centre`) while every one of them shows a stop colour.
+  std::vector<TrafficLightCycle> traffic_lights;
+  double stop_s = 0.0;  // [m] meaningful with traffic_lights
 };
 
 struct World {

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <string>
 
 #include "itp/planner/planner.hpp"
 #include "plan_checks.hpp"
@@ -132,5 +133,44 @@ TEST_CASE("the map ends ahead and a car follows closely: the ego brakes late, co
     if (q.t <= 1.5) CHECK(q.v >= 20.0 - 1e-3);  // no early braking (main: 19.8 m/s at 1.5 s)
     CHECK(q.a >= -3.0 - 0.3);
     CHECK(q.x + s.ego.geometry.length - rear_overhang(s) <= 130.0);
+  }
+}
+
+TEST_CASE("the map ends within the horizon and a faster car follows: ok plans that keep the speed, within the speed budget") {
+  // As ZAM_Tutorial-1_1 from 1.1 s on: the ego at 22.5 m/s and accelerating
+  // gently, the road ending 165 m ahead, a car 9 m behind at 23 m/s (the
+  // speed limit). Keeping ahead of it asked for the furthest reachable motion
+  // (a_max) less 0.2 m while the stop's speed bound fell faster than
+  // comfortable braking: every speed QP with it was infeasible, each
+  // certified after about 70 iterations, and the cycles ran out of their
+  // speed budget (`budget` fallbacks, braking in front of the follower: main
+  // was rear-ended there). Braking at comfort_decel (3 m/s^2) from 22.7 m/s
+  // takes 86 m + 6.8 m of onset: the ego can hold its speed for 2.5 s.
+  // Closed loop, 3 s: the ego follows each plan for 0.1 s.
+  Scene s = road_scene(0, 0, 0, 165);
+  s.road.speed_limit = 23;
+  s.ego.state.v = 22.5;
+  s.ego.state.a = 0.5;
+  add_mover(s, 42, -9, 0, 0, 23);
+  Run r;
+  for (int cycle = 0; cycle <= 30; ++cycle) {
+    const double now = 0.1 * cycle;
+    Scene here = s;
+    here.dynamic_obstacles.clear();
+    add_mover(here, 42, -9 + 23 * now, 0, 0, 23);
+    for (auto& p : here.dynamic_obstacles[0].trajectory) p.t += now;
+    r.go(here, now);
+    REQUIRE_MESSAGE(r.status == itp::PlanStatus::kOk, "cycle ", cycle, ": ", std::string(itp::planner::to_string(r.plan->fallback)));
+    check_limits(here, *r.plan);
+    CHECK(r.plan->timing.speed_iterations < itp::DefaultConfig::kMaxSpeedIterationsPerCycle);
+    for (const TrajectoryPoint& q : r.plan->trajectory) {
+      CHECK(q.x + s.ego.geometry.length - rear_overhang(s) <= 165.0);
+    }
+    const TrajectoryPoint& q = r.plan->trajectory[1];
+    CHECK(q.a >= -3.0 - 0.3);  // what the ego drives: comfortable
+    if (now <= 2.0) CHECK_MESSAGE(q.v >= 22.5 - 0.3, "cycle ", cycle);  // no early braking
+    s.ego.state.x = q.x;
+    s.ego.state.v = q.v;
+    s.ego.state.a = q.a;
   }
 }

@@ -75,3 +75,49 @@ TEST_CASE("USA_Peach-4_8: the oncoming car 520 on the curve passes the standing 
   CHECK(lane > 0.8);
   CHECK(closest_to_standing_ego(w, Prediction::kGroundTruth, 520) > 0.8);
 }
+
+TEST_CASE("USA_Peach-4_8: the southbound queue stops at red light 43920 in the lane prediction, as in the recording") {
+  // Light 43920 (lanelets 43343, 43208, 43349, ending at y = 26.5 - 26.6 m)
+  // is yellow from 0 s and red from 2 s. The queue cars 566 and 569 brake
+  // for it: by 6 s they stand (below 1 m/s) with their fronts a few metres
+  // past the lanelets' end (the recording; NGSIM's stop positions lie past
+  // the mapped line). At 2 s, 13 m before the line at 9.7 and 8.6 m/s, both
+  // are predicted to stop before it (before the change: on through the
+  // intersection at their speed, 50 m and more past it).
+  const World w = import_file("USA_Peach-4_8_T-1.xml");
+  // The road configuration: every car in range (the default one keeps the 5 most relevant).
+  auto scene = std::make_unique<itp::scene::BasicScene<itp::RoadConfig>>();
+  REQUIRE(make_planner_scene<itp::RoadConfig>(w, ego_at_start(w), 2.0, Prediction::kLane, *scene).ok);
+  constexpr double kLine = 26.6;  // [m] y of the lanelets' end
+  int checked = 0;
+  for (const auto& o : scene->dynamic_obstacles) {
+    if (o.id != 566 && o.id != 569) continue;
+    ++checked;
+    double lowest_front = std::numeric_limits<double>::infinity();
+    for (const auto& p : o.trajectory) lowest_front = std::min(lowest_front, p.y - 0.5 * o.length);  // heading south
+    MESSAGE(o.id, ": predicted front lowest at y = ", lowest_front);
+    CHECK(lowest_front > kLine - 0.5);  // before the line (its heading slants the front by a few cm)
+    CHECK(lowest_front < kLine + 1.5);  // and up to it, not short of it
+    // The recording: standing at 6 s, its front past the line by less than 5 m.
+    for (const DynamicObstacle& d : w.dynamic_obstacles) {
+      if (d.id != o.id) continue;
+      const std::optional<Pose> at6 = pose_at(d, 6.0);
+      REQUIRE(at6.has_value());
+      CHECK(d.trajectory.back().v < 1.0);
+      CHECK(at6->y - 0.5 * d.length > kLine - 5.0);
+    }
+  }
+  CHECK(checked == 2);
+  // The lanes with the light carry it, its stop line at their end.
+  int with_light = 0;
+  for (const Lane& l : w.lanes) {
+    if (l.id == 43343 || l.id == 43208 || l.id == 43349) {
+      ++with_light;
+      REQUIRE(l.traffic_lights.size() == 1);
+      CHECK(light_color(l.traffic_lights[0], 1.9) == "yellow");
+      CHECK(light_color(l.traffic_lights[0], 2.0) == "red");
+      CHECK(l.stop_s == doctest::Approx(polyline_arc_lengths(l.centre).back()));
+    }
+  }
+  CHECK(with_light == 3);
+}

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -210,4 +211,61 @@ TEST_CASE("mutated and truncated scenario files never throw: a world or an error
   CHECK(errors > 100);
   const hil::sim::CommonRoadImport whole = hil::sim::import_commonroad(base);
   CHECK_MESSAGE(whole.world.has_value(), whole.error);
+}
+
+TEST_CASE("traffic lights: the cycle, the offset, the lanelet's references and its stop line are read and mapped") {
+  const std::string light =
+      "<trafficLight id=\"7\"><cycle>"
+      "<cycleElement><duration>400</duration><color>green</color></cycleElement>"
+      "<cycleElement><duration>30</duration><color>yellow</color></cycleElement>"
+      "<cycleElement><duration>570</duration><color>red</color></cycleElement>"
+      "<timeOffset>590</timeOffset></cycle><position>" + x::point(100, 4) + "</position>"
+      "<direction>all</direction><active>true</active></trafficLight>\n";
+  const std::string off =
+      "<trafficLight id=\"8\"><cycle><cycleElement><duration>10</duration><color>red</color></cycleElement></cycle>"
+      "<active>false</active></trafficLight>\n";
+  // Lanelet 1 ends at its light (no stop-line points: the lanelet's end);
+  // lanelet 2's stop line is drawn at x = 160; lanelet 3's light is off.
+  const std::string body =
+      x::lanelet(1, 0, 100, 0, 3.5, "<successor ref=\"2\"/><stopLine><lineMarking>solid</lineMarking>"
+                                    "<trafficLightRef ref=\"7\"/></stopLine><trafficLightRef ref=\"7\"/>") +
+      x::lanelet(2, 100, 200, 0, 3.5, "<stopLine>" + x::point(160, 0) + x::point(160, 3.5) +
+                                          "<lineMarking>solid</lineMarking></stopLine><trafficLightRef ref=\"7\"/>") +
+      x::lanelet(3, 100, 200, 3.5, 3.5, "<trafficLightRef ref=\"8\"/>") + light + off +
+      x::planning_problem(100, 10, 1.75, 0, 10);
+  const ReadResult r = read_commonroad(x::scenario(body));
+  REQUIRE_MESSAGE(r.scenario.has_value(), r.error);
+  REQUIRE(r.scenario->traffic_lights.size() == 2);
+  const TrafficLight& t = r.scenario->traffic_lights[0];
+  CHECK(t.id == 7);
+  REQUIRE(t.cycle.size() == 3);
+  CHECK(t.cycle[1].color == "yellow");
+  CHECK(t.cycle[2].duration == 570);
+  CHECK(t.time_offset == 590);
+  CHECK(t.active);
+  CHECK_FALSE(r.scenario->traffic_lights[1].active);
+  CHECK(r.scenario->lanelets[0].traffic_lights == std::vector<long>{7});  // the two references, once
+  CHECK(r.scenario->lanelets[0].stop_line.empty());
+  CHECK(r.scenario->lanelets[1].stop_line.size() == 2);
+
+  const hil::sim::CommonRoadImport imp = hil::sim::import_commonroad(x::scenario(body));
+  REQUIRE_MESSAGE(imp.world.has_value(), imp.error);
+  std::map<long, const hil::sim::Lane*> lanes;
+  for (const hil::sim::Lane& l : imp.world->lanes) lanes[l.id] = &l;
+  REQUIRE(lanes.count(1) == 1);
+  REQUIRE(lanes[1]->traffic_lights.size() == 1);
+  CHECK(lanes[1]->stop_s == doctest::Approx(100.0));  // the end of the 100 m lanelet
+  CHECK(lanes[1]->traffic_lights[0].time_offset == doctest::Approx(59.0));
+  CHECK(lanes[1]->traffic_lights[0].cycle[2].duration == doctest::Approx(57.0));
+  CHECK(hil::sim::light_color(lanes[1]->traffic_lights[0], 0.0) == "yellow");
+  CHECK(hil::sim::light_color(lanes[1]->traffic_lights[0], 2.0) == "red");
+  CHECK(lanes[2]->stop_s == doctest::Approx(60.0));  // its stop line, 60 m along it
+  CHECK(lanes[3]->traffic_lights.empty());          // inactive: no stop
+  // A malformed cycle is an error naming the light.
+  const std::string bad = "<trafficLight id=\"9\"><cycle><cycleElement><duration>-3</duration><color>red</color>"
+                          "</cycleElement></cycle></trafficLight>\n";
+  CHECK(error_of(x::scenario(kRoad + bad)).find("trafficLight 9: cycleElement 0") != std::string::npos);
+  const std::string purple = "<trafficLight id=\"9\"><cycle><cycleElement><duration>3</duration><color>purple</color>"
+                             "</cycleElement></cycle></trafficLight>\n";
+  CHECK(error_of(x::scenario(kRoad + purple)).find("purple") != std::string::npos);
 }

@@ -243,3 +243,166 @@ TEST_CASE("scene/1 extension lanes: written and read back, malformed lanes are e
   CHECK_FALSE(bad.world.has_value());
   CHECK(bad.error.find("lanes[0]") != std::string::npos);
 }
+
+// --- Traffic lights (Lane::traffic_lights; CommonRoad 2020a <trafficLight>) ---
+
+namespace {
+
+// The colour at time step k of a CommonRoad cycle, as commonroad-io reads it
+// (TrafficLight.get_state_at_time_step: the phase (k - offset) mod the
+// cycle's length, counted from the first element), in integer time steps.
+std::string commonroad_color(const std::vector<std::pair<std::string, long>>& cycle, long offset, long k) {
+  long total = 0;
+  for (const auto& c : cycle) total += c.second;
+  long phase = ((k - offset) % total + total) % total;
+  for (const auto& c : cycle) {
+    if (phase < c.second) return c.first;
+    phase -= c.second;
+  }
+  return "?";
+}
+
+// A straight lane along x from 0 to `end`, its stop line at `stop` under one light.
+Lane light_lane(double end, double stop, const TrafficLightCycle& light) {
+  Lane lane = straight_lane(1, {0.0, 0.0}, {end, 0.0}, 3.5);
+  lane.traffic_lights = {light};
+  lane.stop_s = stop;
+  return lane;
+}
+
+}  // namespace
+
+TEST_CASE("traffic light colour: the CommonRoad cycle with its time offset, as commonroad-io reads it") {
+  // USA_Peach-4_8's light 43920 (time step 0.1 s): green 400, yellow 30, red
+  // 570 steps, offset 590; the scenario starts in yellow and turns red at 2 s.
+  const std::vector<std::pair<std::string, long>> steps{{"green", 400}, {"yellow", 30}, {"red", 570}};
+  TrafficLightCycle light;
+  for (const auto& [c, d] : steps) light.cycle.push_back({c, static_cast<double>(d) * 0.1});
+  light.time_offset = 590 * 0.1;
+  for (long k = -1500; k <= 3000; k += 7) {
+    CHECK_MESSAGE(light_color(light, static_cast<double>(k) * 0.1) == commonroad_color(steps, 590, k), k);
+  }
+  CHECK(light_color(light, 0.0) == "yellow");
+  CHECK(light_color(light, 1.95) == "yellow");
+  CHECK(light_color(light, 2.0) == "red");
+  CHECK(light_color(light, 59.0) == "green");
+  CHECK(is_stop_color("red"));
+  CHECK(is_stop_color("yellow"));
+  CHECK(is_stop_color("redYellow"));
+  CHECK_FALSE(is_stop_color("green"));
+  CHECK_FALSE(is_stop_color("inactive"));
+}
+
+TEST_CASE("lane prediction: a car stops at a red light's line, evenly, and goes on when it turns green") {
+  // Red for 20 s from t = 0. A car whose front is 40 m before the line (its
+  // box centre 2 m behind the front) at 10 m/s: even braking over 39.5 m (the
+  // 0.5 m gap) needs 1.27 m/s^2, and it stands from 7.9 s on.
+  TrafficLightCycle light;
+  light.cycle = {{"red", 20.0}, {"green", 30.0}};
+  const std::vector<Lane> lanes{light_lane(200.0, 60.0, light)};
+  const LaneMap map(lanes);
+  const double front = 2.0;
+  const Pose car{18.0, 0.0, 0.0};  // front at 20 m: 40 m before the line
+  const std::vector<double> t = times(10.0, 0.1);
+  const auto pred = predict_along_lanes(map, car, 10.0, t, 0.0, front);
+  REQUIRE(pred.has_value());
+  const double room = 40.0 - kStopLineGap;
+  const double decel = 10.0 * 10.0 / (2.0 * room);  // independent: v^2 / (2 d)
+  const double t_stop = 10.0 / decel;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const double tt = std::min(t[k], t_stop);
+    const double expected = 18.0 + 10.0 * tt - 0.5 * decel * tt * tt;
+    CHECK((*pred)[k].x == doctest::Approx(expected).epsilon(1e-9));
+    CHECK((*pred)[k].x + front <= 60.0 - kStopLineGap + 1e-9);  // never past the line
+  }
+  // Without the light: straight through at 10 m/s.
+  std::vector<Lane> plain = lanes;
+  plain[0].traffic_lights.clear();
+  const auto through = predict_along_lanes(LaneMap(plain), car, 10.0, t, 0.0, front);
+  REQUIRE(through.has_value());
+  CHECK(through->back().x == doctest::Approx(118.0));
+
+  // Green from 8 s on (red 8 s, green after): it stands from t_stop until
+  // then, then accelerates at kGreenStartAccel.
+  TrafficLightCycle soon;
+  soon.cycle = {{"red", 8.0}, {"green", 30.0}};
+  const std::vector<Lane> soon_lanes{light_lane(200.0, 60.0, soon)};
+  const std::vector<double> t12 = times(12.0, 0.1);
+  const auto go = predict_along_lanes(LaneMap(soon_lanes), car, 10.0, t12, 0.0, front);
+  REQUIRE(go.has_value());
+  REQUIRE(t_stop < 8.0);
+  for (std::size_t k = 0; k < t12.size(); ++k) {
+    if (t12[k] > t_stop + 1e-9 && t12[k] <= 8.0 - 0.05) CHECK((*go)[k].x == doctest::Approx(18.0 + room));
+    if (t12[k] > 8.1) CHECK((*go)[k].x > 18.0 + room);
+  }
+  const double g = 12.0 - 8.0;  // at most 0.05 s later (the light is looked up every 0.05 s)
+  CHECK(go->back().x <= 18.0 + room + 0.5 * kGreenStartAccel * g * g + 1e-6);
+  CHECK(go->back().x >= 18.0 + room + 0.5 * kGreenStartAccel * (g - 0.05) * (g - 0.05) - 1e-6);
+}
+
+TEST_CASE("lane prediction: through a green light, through a yellow it cannot stop for, and the time it arrives counts") {
+  const std::vector<double> t = times(6.0, 0.1);
+  const double front = 2.0;
+  const Pose car{18.0, 0.0, 0.0};  // front 40 m before the line at 60 m
+  auto last_x = [&](const TrafficLightCycle& light, double v, double now) {
+    const std::vector<Lane> lanes{light_lane(300.0, 60.0, light)};
+    const auto p = predict_along_lanes(LaneMap(lanes), car, v, t, now, front);
+    REQUIRE(p.has_value());
+    return p->back().x;
+  };
+  TrafficLightCycle green;
+  green.cycle = {{"green", 100.0}};
+  CHECK(last_x(green, 10.0, 0.0) == doctest::Approx(78.0));
+  // Yellow when it gets there: it may enter, and drives on.
+  TrafficLightCycle yellow;
+  yellow.cycle = {{"yellow", 100.0}};
+  CHECK(last_x(yellow, 10.0, 0.0) == doctest::Approx(78.0));
+  // Red when it gets there, but stopping in 39.5 m from 17 m/s needs
+  // 3.66 m/s^2 > 3.05: it drives on; from 15 m/s 2.85 m/s^2: it stops.
+  TrafficLightCycle yellow_red;
+  yellow_red.cycle = {{"yellow", 2.0}, {"red", 100.0}};
+  CHECK(last_x(yellow_red, 17.0, 0.0) == doctest::Approx(18.0 + 17.0 * 6.0));
+  CHECK(last_x(yellow_red, 15.0, 0.0) < 60.0);
+  // Red already (now = 3 s): up to 5 m/s^2 (19.9 m/s over 39.5 m needs 5.01).
+  CHECK(last_x(yellow_red, 17.0, 3.0) < 60.0);
+  CHECK(last_x(yellow_red, 19.8, 3.0) < 60.0);
+  CHECK(last_x(yellow_red, 19.9, 3.0) == doctest::Approx(18.0 + 19.9 * 6.0));
+  // Green now, red when it gets there (4 s at 10 m/s): it stops. Red now,
+  // green before it gets there: it drives on.
+  TrafficLightCycle turning_red;
+  turning_red.cycle = {{"green", 3.0}, {"red", 50.0}};
+  CHECK(last_x(turning_red, 10.0, 0.0) < 60.0);
+  TrafficLightCycle turning_green;
+  turning_green.cycle = {{"red", 3.0}, {"green", 50.0}};
+  CHECK(last_x(turning_green, 10.0, 0.0) == doctest::Approx(78.0));
+  // The scene time shifts the cycle (53 s long): from now = 50 s it arrives
+  // 0.95 s into the next cycle, green for the first, red for the second.
+  CHECK(last_x(turning_red, 10.0, 50.0) == doctest::Approx(78.0));
+  CHECK(last_x(turning_green, 10.0, 50.0) < 60.0);
+}
+
+TEST_CASE("scene/1 extension lanes: traffic lights written and read back, malformed ones are errors") {
+  World w = generate_scene(1, 0);
+  w.lanes = circle_lanes();
+  TrafficLightCycle light;
+  light.cycle = {{"green", 40.0}, {"yellow", 3.0}, {"red", 57.0}};
+  light.time_offset = 59.0;
+  w.lanes[1].traffic_lights = {light};
+  w.lanes[1].stop_s = 12.5;
+  const SceneParseResult back = parse_scene_text(scene_to_text(w));
+  REQUIRE_MESSAGE(back.world.has_value(), back.error);
+  CHECK(back.world->lanes[0].traffic_lights.empty());
+  REQUIRE(back.world->lanes[1].traffic_lights.size() == 1);
+  CHECK(back.world->lanes[1].stop_s == 12.5);
+  CHECK(back.world->lanes[1].traffic_lights[0].time_offset == 59.0);
+  REQUIRE(back.world->lanes[1].traffic_lights[0].cycle.size() == 3);
+  CHECK(back.world->lanes[1].traffic_lights[0].cycle[2].color == "red");
+  CHECK(back.world->lanes[1].traffic_lights[0].cycle[2].duration == 57.0);
+  std::string text = scene_to_text(w);
+  const std::size_t at = text.find("\"duration\"", text.find("\"traffic_lights\""));
+  REQUIRE(at != std::string::npos);
+  text.replace(at, 10, "\"length\"");
+  const SceneParseResult bad = parse_scene_text(text);
+  CHECK_FALSE(bad.world.has_value());
+  CHECK(bad.error.find("lanes[1].traffic_lights[0]") != std::string::npos);
+}

@@ -33,10 +33,19 @@ Scalar braking_allowed(const BasicStParams<Cfg>& p, const BasicSpeedBounds<Cfg>&
   constexpr Scalar kExtra = Scalar(0.3);        // [m/s^2] and this much more
   constexpr Scalar kTolerance = Scalar(0.005);  // [m]
   const Scalar v0 = max_of(p.v0, Scalar(0));
+  constexpr Scalar kSpeedTolerance = Scalar(0.01);  // [m/s]
   const auto keeps_bounds = [&](Scalar decel) {  // decel < 0
     for (int k = 1; k < Cfg::kStSamples; ++k) {  // Cfg::kStSamples
+      const auto u = static_cast<std::size_t>(k);
       const Scalar t = kDt<Cfg> * static_cast<Scalar>(k);
-      if (braking_distance(v0, decel, t) > b.s_hi[static_cast<std::size_t>(k)] + kTolerance) {
+      // The speed bound too: braking now is the slowest motion, so where its
+      // speed is above v_hi no motion meets it (a stop's or a follow's speed
+      // condition is set at the guessed positions and can fall faster than
+      // comfortable braking). Asking for comfort there made the speed QP
+      // infeasible, certified only after tens of iterations, before the
+      // retry at the vehicle's limit.
+      const Scalar v = max_of(v0 + decel * max_of(t - kBrakeOnset, Scalar(0)), Scalar(0));
+      if (braking_distance(v0, decel, t) > b.s_hi[u] + kTolerance || v > b.v_hi[u] + kSpeedTolerance) {
         return false;
       }
     }
@@ -317,11 +326,20 @@ void BasicStGraph<Cfg>::build(const PathResult& path, std::span<const DynamicTra
     apply(d, p, s_guess, v_guess, b);
   }
   kept_ahead_ = false;
-  if (p.keep_ahead && !p.conservative) {
-    std::array<Scalar, Cfg::kStSamples> s_max{};
-    reachable(p, b, s_max);
-    for (std::size_t i = 0; i < decisions_.size(); ++i) {  // <= kMaxDynamicObstacles
-      if (decisions_[i].follower && keep_ahead(decisions_[i], tracks[i], path, p, s_max, b)) {
+  bool any_follower = false;
+  for (const StDecision& d : decisions_) {  // <= kMaxDynamicObstacles
+    any_follower = any_follower || d.follower;
+  }
+  if (p.keep_ahead && !p.conservative && any_follower) {
+    // Keep ahead of followers no further than the latest comfortable braking
+    // that keeps every upper bound (a motion the speed QP can drive); none
+    // when braking now is already too late for comfort.
+    constexpr Scalar kTolerance = Scalar(0.005);  // [m]
+    const Scalar path_limit = p.path_end >= 0 ? p.path_end - p.s0 - p.front : inf;
+    const Scalar decel = max_of(p.comfort_decel, p.limits.a_min);
+    const int m = latest_braking(p, b, decel, path_limit, kTolerance);
+    for (std::size_t i = 0; i < decisions_.size() && m >= 0; ++i) {  // <= kMaxDynamicObstacles
+      if (decisions_[i].follower && keep_ahead(decisions_[i], tracks[i], path, p, m, decel, b)) {
         kept_ahead_ = true;
       }
     }
