@@ -82,16 +82,19 @@ struct ActiveSetSolver {
   }
 
   // Computes sigma pw L^-1 a_c into slot; returns |m|^2.
+  // Entries before m_start are never read (every use of a row starts at its
+  // m_start), so only start..n-1 are written.
   S build_row(int c, int side, int slot) {
     S* row = ws.m_rows[slot];
-    for (int j = 0; j < p.n; ++j) row[j] = S(0);
     int start;
     if (is_bound(c)) {
-      row[c] = S(1);
       start = c;
+      for (int j = start; j < p.n; ++j) row[j] = S(0);
+      row[c] = S(1);
     } else {
       const int r = c - kN;
       start = p.a_nnz[r] > 0 ? p.a_col[r][0] : p.n;
+      for (int j = start; j < p.n; ++j) row[j] = S(0);
       const S pw = row_power(c);
       if (pw == S(1)) {
         for (int k = 0; k < p.a_nnz[r]; ++k) row[p.a_col[r][k]] = p.a_val[r][k];
@@ -99,7 +102,11 @@ struct ActiveSetSolver {
         for (int k = 0; k < p.a_nnz[r]; ++k) row[p.a_col[r][k]] = p.a_val[r][k] * pw;
       }
     }
-    band::forward_solve(ws.chol, p.n, row, start);
+    if (ws.even_band) {
+      band::forward_solve_even(ws.chol, p.n, row, start);
+    } else {
+      band::forward_solve(ws.chol, p.n, row, start);
+    }
     S norm2 = S(0);
     const S sg = static_cast<S>(side);
     for (int j = start; j < p.n; ++j) {
@@ -230,32 +237,71 @@ struct ActiveSetSolver {
   void move_to(const S* xn) {
     const S inflate = S(1) + S(64) * std::numeric_limits<S>::epsilon();
     const int nb = (p.n + kScanBlock - 1) >> kScanBlockShift;
+    S* __restrict x = ws.x;
     for (int b = 0; b < nb; ++b) {
       const int j0 = b << kScanBlockShift;
       const int j1 = j0 + kScanBlock < p.n ? j0 + kScanBlock : p.n;
       S s2 = S(0);
       for (int j = j0; j < j1; ++j) {
-        const S dx = xn[j] - ws.x[j];
+        const S dx = xn[j] - x[j];
         s2 += dx * dx;
-        ws.x[j] = xn[j];
+        x[j] = xn[j];
       }
       ws.path_len[b] += std::sqrt(s2) * inflate;
     }
   }
 
-  void primal_from_dual() {
-    for (int j = 0; j < p.n; ++j) ws.u[j] = S(0);
-    for (int i = 0; i < ws.w_size; ++i) {
-      const S li = ws.lambda[i];
-      if (li == S(0)) continue;
-      const int slot = ws.slot_of[i];
-      const S* row = ws.m_rows[slot];
-      for (int j = ws.m_start[slot]; j < p.n; ++j) ws.u[j] -= li * row[j];
+  // u[from..n-1] -= l * row[from..n-1]
+  void subtract_row(S* __restrict u, const S* __restrict row, S l, int from) const {
+    for (int j = from; j < p.n; ++j) u[j] -= l * row[j];
+  }
+
+  // u -= la row_a + lb row_b, entry by entry in that order (row_a's term
+  // first): the same operations in the same order as subtract_row(a) then
+  // subtract_row(b), since a row has no term before its m_start; one pass
+  // over u instead of two.
+  void subtract_rows(S* __restrict u, const S* __restrict ra, S la, int a, const S* __restrict rb, S lb,
+                     int b) const {
+    int j = a < b ? a : b;
+    const int both = a > b ? a : b;
+    if (a < b) {
+      for (; j < both; ++j) u[j] -= la * ra[j];
+    } else {
+      for (; j < both; ++j) u[j] -= lb * rb[j];
     }
-    S* xn = ws.scratch2;  // N + 1 >= n entries
-    for (int j = 0; j < p.n; ++j) xn[j] = ws.u[j];
-    band::backward_solve(ws.chol, p.n, xn);
-    for (int j = 0; j < p.n; ++j) xn[j] += ws.x_unc[j];
+    for (; j < p.n; ++j) u[j] = (u[j] - la * ra[j]) - lb * rb[j];
+  }
+
+  // u = -M_W' lambda (the rows with lambda_i != 0, in W order), then
+  // x = L^-T u + x_unc.
+  void primal_from_dual() {
+    S* u = ws.u;
+    for (int j = 0; j < p.n; ++j) u[j] = S(0);
+    int pending = -1;  // a row waiting for its partner
+    for (int i = 0; i < ws.w_size; ++i) {
+      if (ws.lambda[i] == S(0)) continue;
+      if (pending < 0) {
+        pending = i;
+        continue;
+      }
+      const int sa = ws.slot_of[pending], sb = ws.slot_of[i];
+      subtract_rows(u, ws.m_rows[sa], ws.lambda[pending], ws.m_start[sa], ws.m_rows[sb], ws.lambda[i],
+                    ws.m_start[sb]);
+      pending = -1;
+    }
+    if (pending >= 0) {
+      const int sa = ws.slot_of[pending];
+      subtract_row(u, ws.m_rows[sa], ws.lambda[pending], ws.m_start[sa]);
+    }
+    S* __restrict xn = ws.scratch2;  // N + 1 >= n entries
+    for (int j = 0; j < p.n; ++j) xn[j] = u[j];
+    if (ws.even_band) {
+      band::backward_solve_even(ws.chol, p.n, xn);
+    } else {
+      band::backward_solve(ws.chol, p.n, xn);
+    }
+    const S* __restrict xu = ws.x_unc;
+    for (int j = 0; j < p.n; ++j) xn[j] += xu[j];
     move_to(xn);
   }
 

@@ -170,6 +170,9 @@ struct QpWorkspace {
   int fwd_valid = 0;              // leading entries of fwd_d that are current
   bool last_singular = false;             // last W row is linearly dependent
   bool factored = false;          // chol/m_rows valid for hotstart
+  // H (hence L) has only zeros at odd band offsets: the triangular solves
+  // of the iterations skip them (banded_cholesky.hpp, "_even"); set with chol.
+  bool even_band = false;
   int factored_n = 0;                 // n the factors were built for
   int factored_m = 0;                 // m the factors were built for
 };
