@@ -322,50 +322,16 @@ struct ActiveSetSolver {
     for (int j = from; j < p.n; ++j) u[j] -= l * row[j];
   }
 
-  // u -= la row_a + lb row_b, entry by entry in that order (row_a's term
-  // first): the same operations in the same order as subtract_row(a) then
-  // subtract_row(b), since a row has no term before its m_start; one pass
-  // over u instead of two.
-  void subtract_rows(S* __restrict u, const S* __restrict ra, S la, int a, const S* __restrict rb, S lb,
-                     int b) const {
-    int j = a < b ? a : b;
-    const int both = a > b ? a : b;
-    if (a < b) {
-      for (; j < both; ++j) u[j] -= la * ra[j];
-    } else {
-      for (; j < both; ++j) u[j] -= lb * rb[j];
-    }
-    for (; j < p.n; ++j) u[j] = (u[j] - la * ra[j]) - lb * rb[j];
-  }
-
   // u = -M_W' lambda (the rows with lambda_i != 0, in W order), then
   // x = L^-T u + x_unc.
   void primal_from_dual() {
     S* u = ws.u;
     for (int j = 0; j < p.n; ++j) u[j] = S(0);
-    int pending = -1;  // a row waiting for its partner
     for (int i = 0; i < ws.w_size; ++i) {
-      if (ws.lambda[i] == S(0)) continue;
-      if (pending < 0) {
-        pending = i;
-        continue;
-      }
-      const int sa = ws.slot_of[pending], sb = ws.slot_of[i];
-      const int pa = ws.m_parity[sa], pb = ws.m_parity[sb];
-      if (pa >= 0 && pb >= 0) {
-        // One parity each: per entry at most the first row's term, then the
-        // second's, as in the pair loop.
-        subtract_row(u, ws.m_rows[sa], ws.lambda[pending], ws.m_start[sa], pa);
-        subtract_row(u, ws.m_rows[sb], ws.lambda[i], ws.m_start[sb], pb);
-      } else {
-        subtract_rows(u, ws.m_rows[sa], ws.lambda[pending], ws.m_start[sa], ws.m_rows[sb], ws.lambda[i],
-                      ws.m_start[sb]);
-      }
-      pending = -1;
-    }
-    if (pending >= 0) {
-      const int sa = ws.slot_of[pending];
-      subtract_row(u, ws.m_rows[sa], ws.lambda[pending], ws.m_start[sa], ws.m_parity[sa]);
+      const S li = ws.lambda[i];
+      if (li == S(0)) continue;
+      const int slot = ws.slot_of[i];
+      subtract_row(u, ws.m_rows[slot], li, ws.m_start[slot], ws.m_parity[slot]);
     }
     S* __restrict xn = ws.scratch2;  // N + 1 >= n entries
     for (int j = 0; j < p.n; ++j) xn[j] = u[j];
