@@ -82,16 +82,19 @@ struct ActiveSetSolver {
   }
 
   // Computes sigma pw L^-1 a_c into slot; returns |m|^2.
+  // Entries before m_start are never read (every use of a row starts at its
+  // m_start), so only start..n-1 are written.
   S build_row(int c, int side, int slot) {
     S* row = ws.m_rows[slot];
-    for (int j = 0; j < p.n; ++j) row[j] = S(0);
     int start;
     if (is_bound(c)) {
-      row[c] = S(1);
       start = c;
+      for (int j = start; j < p.n; ++j) row[j] = S(0);
+      row[c] = S(1);
     } else {
       const int r = c - kN;
       start = p.a_nnz[r] > 0 ? p.a_col[r][0] : p.n;
+      for (int j = start; j < p.n; ++j) row[j] = S(0);
       const S pw = row_power(c);
       if (pw == S(1)) {
         for (int k = 0; k < p.a_nnz[r]; ++k) row[p.a_col[r][k]] = p.a_val[r][k];
@@ -99,15 +102,72 @@ struct ActiveSetSolver {
         for (int k = 0; k < p.a_nnz[r]; ++k) row[p.a_col[r][k]] = p.a_val[r][k] * pw;
       }
     }
-    band::forward_solve(ws.chol, p.n, row, start);
+    int parity = -1;
+    if (ws.even_band) {
+      band::forward_solve_even(ws.chol, p.n, row, start);
+      parity = row_parity(c);
+    } else {
+      band::forward_solve(ws.chol, p.n, row, start);
+    }
     S norm2 = S(0);
     const S sg = static_cast<S>(side);
-    for (int j = start; j < p.n; ++j) {
-      row[j] *= sg;
-      norm2 += row[j] * row[j];
+    if (parity >= 0) {
+      // The other parity's entries are exact zeros: their squares add
+      // nothing (norm2 is never -0), and their sign is never observed.
+      for (int j = start + ((start ^ parity) & 1); j < p.n; j += 2) {
+        row[j] *= sg;
+        norm2 += row[j] * row[j];
+      }
+    } else {
+      for (int j = start; j < p.n; ++j) {
+        row[j] *= sg;
+        norm2 += row[j] * row[j];
+      }
     }
     ws.m_start[slot] = static_cast<std::int16_t>(start);
+    ws.m_parity[slot] = static_cast<std::int8_t>(parity);
     return norm2;
+  }
+
+  // With even_band: the index parity shared by all nonzero columns of
+  // constraint c (a bound: its variable's), or -1 if they mix both.
+  int row_parity(int c) const {
+    if (is_bound(c)) return c & 1;
+    const int r = c - kN;
+    const int nnz = p.a_nnz[r];
+    if (nnz == 0) return -1;
+    const int parity = p.a_col[r][0] & 1;
+    for (int k = 1; k < nnz; ++k) {
+      if ((p.a_col[r][k] & 1) != parity) return -1;
+    }
+    return parity;
+  }
+
+  // dense_dot(a, b, from) for two rows whose nonzeros lie only at indices of
+  // parity `parity`: the same terms into the same partial sums in the same
+  // order, without the zero products in between (a sum that starts at +0 is
+  // never -0, so adding a zero product leaves it unchanged).
+  // dense_dot puts term j of its main part (a multiple of 4 terms from
+  // `from`) into partial sum (j - from) mod 4 and the rest into s0, and
+  // returns (s0 + s1) + (s2 + s3). Here the terms of one parity alternate
+  // between two of the partial sums; the other two stay +0, and x + (+0) = x.
+  S parity_dot(const S* a, const S* b, int from, int parity) const {
+    const int main_end = from + ((p.n - from) & ~3);
+    S lo = S(0), hi = S(0);  // partial sums 0 and 2, or 1 and 3
+    int j = from + ((from ^ parity) & 1);
+    for (; j < main_end; j += 4) {
+      lo += a[j] * b[j];
+      hi += a[j + 2] * b[j + 2];
+    }
+    if (((from ^ parity) & 1) == 0) {
+      // s0 = lo and then the tail, s2 = hi, s1 = s3 = +0.
+      for (; j < p.n; j += 2) lo += a[j] * b[j];
+      return lo + hi;
+    }
+    // s1 = lo, s3 = hi, s2 = +0, s0 = the tail alone.
+    S s0 = S(0);
+    for (; j < p.n; j += 2) s0 += a[j] * b[j];
+    return (s0 + lo) + hi;
   }
 
   // Dense dot product from `from` to n with four partial sums (breaks the
@@ -127,6 +187,14 @@ struct ActiveSetSolver {
 
   S row_dot(int slot_a, int slot_b) const {
     const int a = ws.m_start[slot_a], b = ws.m_start[slot_b];
+    if (ws.even_band) {
+      const int pa = ws.m_parity[slot_a], pb = ws.m_parity[slot_b];
+      if (pa >= 0 && pb >= 0) {
+        // Rows of opposite parity: every product is a zero, the sum +0.
+        if (pa != pb) return S(0);
+        return parity_dot(ws.m_rows[slot_a], ws.m_rows[slot_b], a > b ? a : b, pa);
+      }
+    }
     return dense_dot(ws.m_rows[slot_a], ws.m_rows[slot_b], a > b ? a : b);
   }
 
@@ -230,32 +298,50 @@ struct ActiveSetSolver {
   void move_to(const S* xn) {
     const S inflate = S(1) + S(64) * std::numeric_limits<S>::epsilon();
     const int nb = (p.n + kScanBlock - 1) >> kScanBlockShift;
+    S* __restrict x = ws.x;
     for (int b = 0; b < nb; ++b) {
       const int j0 = b << kScanBlockShift;
       const int j1 = j0 + kScanBlock < p.n ? j0 + kScanBlock : p.n;
       S s2 = S(0);
       for (int j = j0; j < j1; ++j) {
-        const S dx = xn[j] - ws.x[j];
+        const S dx = xn[j] - x[j];
         s2 += dx * dx;
-        ws.x[j] = xn[j];
+        x[j] = xn[j];
       }
       ws.path_len[b] += std::sqrt(s2) * inflate;
     }
   }
 
+  // u[from..n-1] -= l * row[from..n-1]; a row of one parity (m_parity) only
+  // at its nonzeros: u is never -0, so u - l * (+-0) = u for the others.
+  void subtract_row(S* __restrict u, const S* __restrict row, S l, int from, int parity) const {
+    if (parity >= 0) {
+      for (int j = from + ((from ^ parity) & 1); j < p.n; j += 2) u[j] -= l * row[j];
+      return;
+    }
+    for (int j = from; j < p.n; ++j) u[j] -= l * row[j];
+  }
+
+  // u = -M_W' lambda (the rows with lambda_i != 0, in W order), then
+  // x = L^-T u + x_unc.
   void primal_from_dual() {
-    for (int j = 0; j < p.n; ++j) ws.u[j] = S(0);
+    S* u = ws.u;
+    for (int j = 0; j < p.n; ++j) u[j] = S(0);
     for (int i = 0; i < ws.w_size; ++i) {
       const S li = ws.lambda[i];
       if (li == S(0)) continue;
       const int slot = ws.slot_of[i];
-      const S* row = ws.m_rows[slot];
-      for (int j = ws.m_start[slot]; j < p.n; ++j) ws.u[j] -= li * row[j];
+      subtract_row(u, ws.m_rows[slot], li, ws.m_start[slot], ws.m_parity[slot]);
     }
-    S* xn = ws.scratch2;  // N + 1 >= n entries
-    for (int j = 0; j < p.n; ++j) xn[j] = ws.u[j];
-    band::backward_solve(ws.chol, p.n, xn);
-    for (int j = 0; j < p.n; ++j) xn[j] += ws.x_unc[j];
+    S* __restrict xn = ws.scratch2;  // N + 1 >= n entries
+    for (int j = 0; j < p.n; ++j) xn[j] = u[j];
+    if (ws.even_band) {
+      band::backward_solve_even(ws.chol, p.n, xn);
+    } else {
+      band::backward_solve(ws.chol, p.n, xn);
+    }
+    const S* __restrict xu = ws.x_unc;
+    for (int j = 0; j < p.n; ++j) xn[j] += xu[j];
     move_to(xn);
   }
 

@@ -149,15 +149,19 @@ bool is_valid(const QpProblem<D>& p) {
   // NaN-propagating sum of v * 0 checks a whole row.
   bool ok = true;
   S zero_sum = S(0);
+  // Strictly increasing columns lie in 0..n-1 iff the first is >= 0 and the
+  // last < n, so the range is tested once per row.
   for (int r = 0; r < p.m; ++r) {
     const int nnz = p.a_nnz[r];
     if (nnz < 0 || nnz > D::kMaxRowNonzeros) return false;
-    int prev = -1;
-    for (int k = 0; k < nnz; ++k) {
-      const int c = p.a_col[r][k];
-      ok = ok & (c > prev) & (c < p.n);
-      prev = c;
-      zero_sum += p.a_val[r][k] * S(0);
+    if (nnz == 0) continue;
+    const std::int16_t* col = p.a_col[r];
+    const S* val = p.a_val[r];
+    ok = ok & (col[0] >= 0) & (col[nnz - 1] < p.n);
+    zero_sum += val[0] * S(0);
+    for (int k = 1; k < nnz; ++k) {
+      ok = ok & (col[k] > col[k - 1]);
+      zero_sum += val[k] * S(0);
     }
   }
   return ok && zero_sum == S(0);

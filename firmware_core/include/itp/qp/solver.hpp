@@ -45,11 +45,13 @@ struct SolveRun : ActiveSetSolver<D> {
   // may have changed (cold and warm starts).
   QpStatus factor() {
     ws.factored = false;
+    ws.even_band = false;
     S weight = S(0);
     const HessianKind kind = factor_hessian(p, ws, s.proximal_weight, weight);
     if (kind == HessianKind::kNegativeCurvature) return QpStatus::kNotConvex;
     if (kind == HessianKind::kFailed) return QpStatus::kNumericalTrouble;
     ws.proximal_weight = weight;
+    ws.even_band = band::odd_offsets_zero(p.h_band, p.n);
     for (int j = 0; j < kN; ++j) ws.row_scale[j] = S(1);
     for (int r = 0; r < p.m; ++r) {
       ws.row_scale[kN + r] = rows::row_inverse_norm(p.a_val[r], p.a_nnz[r]);

@@ -129,9 +129,13 @@ struct QpWorkspace {
   S u[kNz];                        // transformed iterate u = L'(x - x_unc) [N]
   S row_scale[kCz];                // 1 / |a_c| for violation ranking     [N + M]
   // Rows of M = A L^-T for the working set, one slot per active entry
-  // (dense; entries before m_start[slot] are zero).                  [(N+1) x N]
+  // (dense from m_start[slot]; the entries before it are zero and never
+  // read, so they are not stored).                                   [(N+1) x N]
   S m_rows[kAz][kNz];
   std::int16_t m_start[kAz];       // first nonzero column of each slot   [N+1]
+  // With even_band: 0 / 1 if the slot's row has nonzeros only at even / odd
+  // columns (then so has L^-1 a, exactly), else -1; always -1 otherwise. [N+1]
+  std::int8_t m_parity[kAz];
   std::int16_t slot_of[kAz];       // working-set position -> slot        [N+1]
   std::int16_t free_slots[kAz];    // stack of unused slots               [N+1]
   int free_count = 0;             // entries in free_slots
@@ -170,6 +174,9 @@ struct QpWorkspace {
   int fwd_valid = 0;              // leading entries of fwd_d that are current
   bool last_singular = false;             // last W row is linearly dependent
   bool factored = false;          // chol/m_rows valid for hotstart
+  // H (hence L) has only zeros at odd band offsets: the triangular solves
+  // of the iterations skip them (banded_cholesky.hpp, "_even"); set with chol.
+  bool even_band = false;
   int factored_n = 0;                 // n the factors were built for
   int factored_m = 0;                 // m the factors were built for
 };
