@@ -104,7 +104,7 @@ struct ActiveSetSolver {
     }
     int parity = -1;
     if (ws.even_band) {
-      band::forward_solve_even(ws.chol, p.n, row, start);
+      band::forward_solve<2>(ws.chol, p.n, row, start);
       parity = row_parity(c);
     } else {
       band::forward_solve(ws.chol, p.n, row, start);
@@ -336,7 +336,7 @@ struct ActiveSetSolver {
     S* __restrict xn = ws.scratch2;  // N + 1 >= n entries
     for (int j = 0; j < p.n; ++j) xn[j] = u[j];
     if (ws.even_band) {
-      band::backward_solve_even(ws.chol, p.n, xn);
+      band::backward_solve<2>(ws.chol, p.n, xn);
     } else {
       band::backward_solve(ws.chol, p.n, xn);
     }

@@ -48,54 +48,12 @@ bool cholesky(const S (*h)[W], S (*l)[W], int n, S reg) {
   return cholesky_failing_row(h, l, n, reg) < 0;
 }
 
-// Solves L y = b in place (y overwrites b). Entries b[0..start-1] must be zero
-// and stay zero, so the solve starts at `start` (sparse right-hand sides).
-template <typename S, std::size_t W>
-void forward_solve(const S (*l)[W], int n, S* b, int start) {
-  constexpr int Bw = static_cast<int>(W) - 1;
-  // Rows start..start+Bw-1 see fewer than Bw earlier entries; the rest run a
-  // loop of compile-time length Bw (unrolled). Same operation order as one loop.
-  const int head_end = start + Bw < n ? start + Bw : n;
-  for (int i = start; i < head_end; ++i) {
-    S s = b[i];
-    // nearest term last: only it waits for the previous row's result
-    for (int k = start; k < i; ++k) s -= l[i][i - k] * b[k];
-    b[i] = s * l[i][0];
-  }
-  for (int i = head_end; i < n; ++i) {
-    S s = b[i];
-    const S* li = l[i];
-    for (int k = i - Bw; k < i; ++k) s -= li[i - k] * b[k];
-    b[i] = s * li[0];
-  }
-}
-
-// Solves L' x = y in place (x overwrites y).
-template <typename S, std::size_t W>
-void backward_solve(const S (*l)[W], int n, S* y) {
-  constexpr int Bw = static_cast<int>(W) - 1;
-  // Rows n-Bw..n-1 see fewer than Bw later entries; rows below run a loop of
-  // compile-time length Bw (unrolled). Same operation order as one loop.
-  const int tail_begin = n - Bw > 0 ? n - Bw : 0;
-  for (int i = n - 1; i >= tail_begin; --i) {
-    S s = y[i];
-    // farthest term first: only the last one waits for the previous row
-    for (int k = n - 1; k > i; --k) s -= l[k][k - i] * y[k];
-    y[i] = s * l[i][0];
-  }
-  for (int i = tail_begin - 1; i >= 0; --i) {
-    S s = y[i];
-    for (int k = i + Bw; k > i; --k) s -= l[k][k - i] * y[k];
-    y[i] = s * l[i][0];
-  }
-}
-
 // A factor whose entries at odd band offsets are all zero: H couples only
 // variables of equal index parity (two interleaved chains, as in the coarse
 // QP's (l_i, t_i)), and then so does L, exactly (every term of an odd-offset
-// entry has one factor at an odd offset, by induction). The "_even" solves
-// below skip those zero terms and take the others in the original order, so
-// for finite entries they give bit-identical results at half the flops (a
+// entry has one factor at an odd offset, by induction). The solves below with
+// Stride = 2 skip those zero terms and take the others in the original order,
+// so for finite entries they give bit-identical results at half the flops (a
 // skipped term l * b is a zero, and s - (+-0) = s for the sums here, which
 // start from a row value and never become -0 by cancellation).
 template <typename S, std::size_t W>
@@ -109,37 +67,47 @@ bool odd_offsets_zero(const S (*h)[W], int n) {
   return zero;
 }
 
-// forward_solve for a factor with odd_offsets_zero (see above).
-template <typename S, std::size_t W>
-void forward_solve_even(const S (*l)[W], int n, S* b, int start) {
+// Solves L y = b in place (y overwrites b). Entries b[0..start-1] must be zero
+// and stay zero, so the solve starts at `start` (sparse right-hand sides).
+// Stride 2: only the even band offsets (a factor with odd_offsets_zero).
+template <int Stride = 1, typename S, std::size_t W>
+void forward_solve(const S (*l)[W], int n, S* b, int start) {
+  static_assert(Stride == 1 || Stride == 2, "every band offset, or the even ones");
   constexpr int Bw = static_cast<int>(W) - 1;
+  // Rows start..start+Bw-1 see fewer than Bw earlier entries; the rest run a
+  // loop of compile-time length Bw (unrolled). Same operation order as one loop.
   const int head_end = start + Bw < n ? start + Bw : n;
   for (int i = start; i < head_end; ++i) {
     S s = b[i];
-    for (int k = start + ((i - start) & 1); k < i; k += 2) s -= l[i][i - k] * b[k];
+    // nearest term last: only it waits for the previous row's result
+    for (int k = start + (i - start) % Stride; k < i; k += Stride) s -= l[i][i - k] * b[k];
     b[i] = s * l[i][0];
   }
   for (int i = head_end; i < n; ++i) {
     S s = b[i];
     const S* li = l[i];
-    for (int k = i - Bw + (Bw & 1); k < i; k += 2) s -= li[i - k] * b[k];
+    for (int k = i - Bw + Bw % Stride; k < i; k += Stride) s -= li[i - k] * b[k];
     b[i] = s * li[0];
   }
 }
 
-// backward_solve for a factor with odd_offsets_zero (see above).
-template <typename S, std::size_t W>
-void backward_solve_even(const S (*l)[W], int n, S* y) {
+// Solves L' x = y in place (x overwrites y). Stride as in forward_solve.
+template <int Stride = 1, typename S, std::size_t W>
+void backward_solve(const S (*l)[W], int n, S* y) {
+  static_assert(Stride == 1 || Stride == 2, "every band offset, or the even ones");
   constexpr int Bw = static_cast<int>(W) - 1;
+  // Rows n-Bw..n-1 see fewer than Bw later entries; rows below run a loop of
+  // compile-time length Bw (unrolled). Same operation order as one loop.
   const int tail_begin = n - Bw > 0 ? n - Bw : 0;
   for (int i = n - 1; i >= tail_begin; --i) {
     S s = y[i];
-    for (int k = n - 1 - ((n - 1 - i) & 1); k > i; k -= 2) s -= l[k][k - i] * y[k];
+    // farthest term first: only the last one waits for the previous row
+    for (int k = n - 1 - (n - 1 - i) % Stride; k > i; k -= Stride) s -= l[k][k - i] * y[k];
     y[i] = s * l[i][0];
   }
   for (int i = tail_begin - 1; i >= 0; --i) {
     S s = y[i];
-    for (int k = i + Bw - (Bw & 1); k > i; k -= 2) s -= l[k][k - i] * y[k];
+    for (int k = i + Bw - Bw % Stride; k > i; k -= Stride) s -= l[k][k - i] * y[k];
     y[i] = s * l[i][0];
   }
 }

@@ -175,7 +175,7 @@ struct QpWorkspace {
   bool last_singular = false;             // last W row is linearly dependent
   bool factored = false;          // chol/m_rows valid for hotstart
   // H (hence L) has only zeros at odd band offsets: the triangular solves
-  // of the iterations skip them (banded_cholesky.hpp, "_even"); set with chol.
+  // of the iterations skip them (banded_cholesky.hpp, Stride = 2); set with chol.
   bool even_band = false;
   int factored_n = 0;                 // n the factors were built for
   int factored_m = 0;                 // m the factors were built for
