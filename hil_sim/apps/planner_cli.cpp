@@ -69,7 +69,7 @@ json decision_json(const itp::planner::BasicPlanner<Cfg>& planner) {
   json zones = json::array();
   for (std::size_t i = 0; i < space.zones.size(); ++i) {
     const auto& z = space.zones[i];
-    zones.push_back({{"index", i}, {"slice", z.slice}, {"s", {z.s_begin, z.s_end}}, {"l", {z.l_min, z.l_max}},
+    zones.push_back({{"index", i}, {"slice", z.slice}, {"s", {space.slice_of(z).s_begin, space.slice_of(z).s_end}}, {"l", {z.l_min, z.l_max}},
                      {"area_cost", z.area_cost}, {"lane_cost", z.lane_cost}});
   }
   json kept = json::array();

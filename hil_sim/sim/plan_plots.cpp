@@ -54,15 +54,19 @@ std::string plot_sl(const itp::planner::BasicPlanner<Cfg>& planner, const itp::s
   c.polyline(right, Style(svg::colour::kRoadEdge, "none", 2));
   // Zones, then the chosen corridor on top.
   const auto& stage = planner.decision_stage();
+  const auto zone_rect = [&](const itp::decision::Zone& z) {
+    const itp::decision::Slice& slice = stage.space().slice_of(z);
+    return rect(slice.s_begin, slice.s_end, z.l_min, z.l_max);
+  };
   for (const auto& z : stage.space().zones) {
-    c.polygon(rect(z.s_begin, z.s_end, z.l_min, z.l_max), Style("#9aa5b1", kZone, 0.8, 0.8));
+    c.polygon(zone_rect(z), Style("#9aa5b1", kZone, 0.8, 0.8));
   }
   const int chosen = planner.chosen_decision();
   if (chosen >= 0) {
     const auto& d = stage.decisions().kept[static_cast<std::size_t>(chosen)];
     for (std::int16_t zi : d.zones) {
       const auto& z = stage.space().zones[static_cast<std::size_t>(zi)];
-      c.polygon(rect(z.s_begin, z.s_end, z.l_min, z.l_max), Style(kPath, kCorridor, 1.2, 0.7));
+      c.polygon(zone_rect(z), Style(kPath, kCorridor, 1.2, 0.7));
     }
   }
   // Obstacles (as the planner sees them: inflated SL boxes).

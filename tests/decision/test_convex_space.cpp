@@ -16,8 +16,8 @@ TEST_CASE("a free road is one zone spanning the horizon") {
   REQUIRE(space->slices.size() == 1);
   REQUIRE(space->zones.size() == 1);
   const Zone& z = space->zones[0];
-  CHECK(z.s_begin == doctest::Approx(0));
-  CHECK(z.s_end == doctest::Approx(100));
+  CHECK(space->slice_of(z).s_begin == doctest::Approx(0));
+  CHECK(space->slice_of(z).s_end == doctest::Approx(100));
   CHECK(z.l_min == doctest::Approx(-1.75));
   CHECK(z.l_max == doctest::Approx(5.25));
   CHECK(z.area_cost == doctest::Approx(0));
@@ -129,7 +129,7 @@ TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough, and 
           CHECK(prev.l_max <= z.l_min);
         }
         for (const SlBox& b : boxes) {  // no zone overlaps an obstacle
-          const bool s_overlap = b.s_max > z.s_begin && b.s_min < z.s_end;
+          const bool s_overlap = b.s_max > sl.s_begin && b.s_min < sl.s_end;
           const bool l_overlap = b.l_max > z.l_min && b.l_min < z.l_max;
           CHECK_FALSE((s_overlap && l_overlap));
         }
@@ -169,14 +169,15 @@ TEST_CASE("road cuts: a narrowing far ahead does not narrow the ego's slice") {
     const Zone& first = space->zones[static_cast<std::size_t>(space->start_zone)];
     CHECK(first.slice == 0);
     CHECK(first.l_min == doctest::Approx(-1.75));
-    CHECK(first.s_end == doctest::Approx(60));
+    CHECK(space->slice_of(first).s_end == doctest::Approx(60));
     // Every slice is a rectangle inside the road over its whole length, and
     // the slices along the taper lose less than the taper's 3.5 m.
     for (const Zone& z : space->zones) {
-      CHECK(z.l_min >= r.right.max_over(z.s_begin, z.s_end) - 1e-9);
-      CHECK(z.l_max <= r.left.min_over(z.s_begin, z.s_end) + 1e-9);
-      if (z.s_begin >= 60 - 1e-9 && z.s_end <= 90 + 1e-9) {
-        CHECK(r.right.max_over(z.s_begin, z.s_end) - r.right.min_over(z.s_begin, z.s_end) < 1.0);
+      const Slice& sl = space->slice_of(z);
+      CHECK(z.l_min >= r.right.max_over(sl.s_begin, sl.s_end) - 1e-9);
+      CHECK(z.l_max <= r.left.min_over(sl.s_begin, sl.s_end) + 1e-9);
+      if (sl.s_begin >= 60 - 1e-9 && sl.s_end <= 90 + 1e-9) {
+        CHECK(r.right.max_over(sl.s_begin, sl.s_end) - r.right.min_over(sl.s_begin, sl.s_end) < 1.0);
       }
     }
     // The ego's zone links through to the end (the left lane stays open).

@@ -40,7 +40,7 @@ std::vector<Scalar> brute_force_costs(const ConvexSpace& sp, const GeometricWeig
     if (z.successors == 0u) {
       Scalar cost = 0;
       Scalar length = 0;
-      Scalar s_prev = sp.zones[static_cast<std::size_t>(path[0])].s_begin;
+      Scalar s_prev = sp.slice_of(sp.zones[static_cast<std::size_t>(path[0])]).s_begin;
       const Zone& z0 = sp.zones[static_cast<std::size_t>(path[0])];
       Scalar l_prev = 0.5 * (z0.l_min + z0.l_max);
       for (std::size_t k = 0; k < path.size(); ++k) {
@@ -52,12 +52,12 @@ std::vector<Scalar> brute_force_costs(const ConvexSpace& sp, const GeometricWeig
           const Scalar hi = std::min(a.l_max, b.l_max);
           cost += w.link * sp.vehicle_width / (hi - lo);
           const Scalar l_cross = 0.5 * (lo + hi);
-          length += std::hypot(b.s_begin - s_prev, l_cross - l_prev);
-          s_prev = b.s_begin;
+          length += std::hypot(sp.slice_of(b).s_begin - s_prev, l_cross - l_prev);
+          s_prev = sp.slice_of(b).s_begin;
           l_prev = l_cross;
         } else {
-          length += std::hypot(a.s_end - s_prev, 0.5 * (a.l_min + a.l_max) - l_prev);
-          cost += w.move * length / horizon + w.blocked * (sp.s_end - a.s_end) / horizon;
+          length += std::hypot(sp.slice_of(a).s_end - s_prev, 0.5 * (a.l_min + a.l_max) - l_prev);
+          cost += w.move * length / horizon + w.blocked * (sp.s_end - sp.slice_of(a).s_end) / horizon;
         }
       }
       costs.push_back(cost);

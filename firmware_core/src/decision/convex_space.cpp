@@ -125,8 +125,6 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
     if (gap_hi - cursor >= params.vehicle_width && slice.zone_count < Cfg::kMaxZonesPerSlice) {
       Zone z;
       z.slice = slice_index;
-      z.s_begin = sa;
-      z.s_end = sb;
       z.l_min = cursor;
       z.l_max = gap_hi;
       z.right_box = cursor_box;
@@ -148,13 +146,13 @@ template <class Cfg>
 void compute_zone_costs(const BasicRoadSl<Cfg>& road, BasicConvexSpace<Cfg>& out) {
   Scalar area_max = 0;
   for (const Zone& z : out.zones) {  // <= kMaxZones
-    const Scalar area = (z.s_end - z.s_begin) * z.width();
+    const Scalar area = (out.slice_of(z).s_end - out.slice_of(z).s_begin) * z.width();
     area_max = area > area_max ? area : area_max;
   }
   const Scalar lane_lo = road.target_lane_offset - Scalar(0.5) * road.lane_width;
   const Scalar lane_hi = road.target_lane_offset + Scalar(0.5) * road.lane_width;
   for (Zone& z : out.zones) {  // <= kMaxZones
-    const Scalar area = (z.s_end - z.s_begin) * z.width();
+    const Scalar area = (out.slice_of(z).s_end - out.slice_of(z).s_begin) * z.width();
     z.area_cost = area_max > 0 ? Scalar(1) - area / area_max : Scalar(0);
     const Scalar lo = z.l_min > lane_lo ? z.l_min : lane_lo;
     const Scalar hi = z.l_max < lane_hi ? z.l_max : lane_hi;

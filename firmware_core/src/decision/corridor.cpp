@@ -26,7 +26,7 @@ LateralInterval corridor_at(const BasicConvexSpace<Cfg>& space, const BasicDecis
   bool found = false;
   for (std::int16_t zi : decision.zones) {  // <= kMaxSlices
     const Zone& z = space.zones[static_cast<std::size_t>(zi)];
-    if (z.s_begin <= s + kSliceEps && s - kSliceEps <= z.s_end) {
+    if (space.slice_of(z).s_begin <= s + kSliceEps && s - kSliceEps <= space.slice_of(z).s_end) {
       if (!found) {
         out = LateralInterval{z.l_min, z.l_max};
         found = true;
@@ -40,7 +40,7 @@ LateralInterval corridor_at(const BasicConvexSpace<Cfg>& space, const BasicDecis
     // Before the first or past the last zone: continue the nearest end.
     const Zone& first = space.zones[static_cast<std::size_t>(decision.zones[0])];
     const Zone& last = space.zones[static_cast<std::size_t>(decision.zones.back())];
-    const Zone& z = s < first.s_begin ? first : last;
+    const Zone& z = s < space.slice_of(first).s_begin ? first : last;
     out = LateralInterval{z.l_min, z.l_max};
   }
   return out;

@@ -67,7 +67,7 @@ void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeig
     const Zone& z0 = space.zones[static_cast<std::size_t>(space.start_zone)];
     const Scalar l0 = mid(z0.l_min, z0.l_max);
     stack[0] = Frame{space.start_zone, 0, zone_cost(z0, w), z0.area_cost, z0.lane_cost,
-                     Scalar(0), Scalar(0), l0, z0.s_begin};
+                     Scalar(0), Scalar(0), l0, space.slice_of(z0).s_begin};
   }
   out.nodes_expanded = 1;
   // Each pass either descends, backtracks or records a leaf; the node budget
@@ -84,15 +84,15 @@ void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeig
           // d is fresh; depth + 1 <= kMaxSlices (stack size) = capacity.
           static_cast<void>(d.zones.push_back(stack[static_cast<std::size_t>(i)].zone));
         }
-        const Scalar ds = z.s_end - f.s_anchor;
+        const Scalar ds = space.slice_of(z).s_end - f.s_anchor;
         const Scalar dl = mid(z.l_min, z.l_max) - f.l_anchor;
         d.move_cost = (f.move + std::sqrt(ds * ds + dl * dl)) / horizon;
         d.area_cost = f.area;
         d.lane_cost = f.lane;
         d.link_cost = f.link;
-        d.reach = z.s_end;
-        d.reaches_end = z.s_end >= space.s_end;
-        const Scalar unreached = (space.s_end - z.s_end) / horizon;
+        d.reach = space.slice_of(z).s_end;
+        d.reaches_end = d.reach >= space.s_end;
+        const Scalar unreached = (space.s_end - d.reach) / horizon;
         d.geometric_cost = f.cost + w.move * d.move_cost + w.blocked * unreached;
         ++out.complete_paths;
         offer(out, d);
@@ -119,7 +119,7 @@ void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeig
     const Scalar ov = BasicConvexSpace<Cfg>::overlap(z, c);
     // The centre line crosses the slice edge in the middle of the overlap.
     const Scalar l_cross = mid(z.l_min > c.l_min ? z.l_min : c.l_min, z.l_max < c.l_max ? z.l_max : c.l_max);
-    const Scalar ds = c.s_begin - f.s_anchor;
+    const Scalar ds = space.slice_of(c).s_begin - f.s_anchor;
     const Scalar dl = l_cross - f.l_anchor;
     const Scalar link = space.vehicle_width / ov;
     Frame child;
@@ -131,7 +131,7 @@ void enumerate_decisions(const BasicConvexSpace<Cfg>& space, const GeometricWeig
     child.move = f.move + std::sqrt(ds * ds + dl * dl);
     child.cost = f.cost + zone_cost(c, w) + w.link * link;
     child.l_anchor = l_cross;
-    child.s_anchor = c.s_begin;
+    child.s_anchor = space.slice_of(c).s_begin;
     stack[static_cast<std::size_t>(++depth)] = child;
   }
 }
@@ -141,7 +141,7 @@ Side side_of(const BasicConvexSpace<Cfg>& space, const BasicDecision<Cfg>& decis
              const SlBox& box) {
   for (std::int16_t zi : decision.zones) {  // <= kMaxSlices
     const Zone& z = space.zones[static_cast<std::size_t>(zi)];
-    if (z.s_end <= box.s_min || z.s_begin >= box.s_max) {
+    if (space.slice_of(z).s_end <= box.s_min || space.slice_of(z).s_begin >= box.s_max) {
       continue;  // this slice does not span the box
     }
     if (z.l_min >= box.l_max) {

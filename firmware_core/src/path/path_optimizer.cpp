@@ -85,8 +85,9 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
     spline::Row6 lin = target_lin;
     for (std::int16_t zi : decision.zones) {  // <= kMaxSlices
       const decision::Zone& z = space.zones[static_cast<std::size_t>(zi)];
-      const Scalar a = (z.s_begin > sb ? z.s_begin : sb) - sb;
-      const Scalar e = (z.s_end < sb + h ? z.s_end : sb + h) - sb;
+      const decision::Slice& zs = space.slice_of(z);
+      const Scalar a = (zs.s_begin > sb ? zs.s_begin : sb) - sb;
+      const Scalar e = (zs.s_end < sb + h ? zs.s_end : sb + h) - sb;
       if (e > a) {
         lin -= Scalar(2) * w.obstacle * decision::zone_reference(z, in.l_target, half_width) *
                spline::integral_row(h, a, e);
@@ -94,8 +95,9 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
     }
     // Past the corridor's end, the last zone's middle continues.
     const decision::Zone& last = space.zones[static_cast<std::size_t>(decision.zones.back())];
-    if (sb + h > last.s_end) {
-      const Scalar a = (last.s_end > sb ? last.s_end : sb) - sb;
+    const Scalar last_end = space.slice_of(last).s_end;
+    if (sb + h > last_end) {
+      const Scalar a = (last_end > sb ? last_end : sb) - sb;
       lin -= Scalar(2) * w.obstacle * decision::zone_reference(last, in.l_target, half_width) *
              spline::integral_row(h, a, h);
     }

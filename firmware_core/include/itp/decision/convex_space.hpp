@@ -19,17 +19,17 @@ using geometry::SlBox;
 
 inline constexpr std::int16_t kRoadEdge = -1;  // a zone bounded by the road, not an obstacle
 
+// Its s-range is its slice's (BasicConvexSpace::slice_of): kept once per
+// slice, not per zone, the table being the decision stage's largest.
 struct Zone {
-  std::int16_t slice = 0;
-  Scalar s_begin = 0;          // [m]
-  Scalar s_end = 0;            // [m]
+  std::int16_t slice = 0;              // index into ConvexSpace::slices
+  std::int16_t right_box = kRoadEdge;  // index of the box bounding it on the right
+  std::int16_t left_box = kRoadEdge;   // ... and on the left
+  std::uint16_t successors = 0;        // bit j: zone j of the next slice is linked
   Scalar l_min = 0;            // [m] right edge of the free interval
   Scalar l_max = 0;            // [m] left edge
   Scalar area_cost = 0;        // 1 - area / largest zone area: larger zones cost less
   Scalar lane_cost = 0;        // share of the target lane's width missing from the zone, [0, 1]
-  std::int16_t right_box = kRoadEdge;  // index of the box bounding it on the right
-  std::int16_t left_box = kRoadEdge;   // ... and on the left
-  std::uint16_t successors = 0;        // bit j: zone j of the next slice is linked
 
   Scalar width() const { return l_max - l_min; }
 };
@@ -68,6 +68,8 @@ struct BasicConvexSpace {
   // Overlap of the l-intervals of two zones (negative when disjoint). [m]
   static Scalar overlap(const Zone& a, const Zone& b);
   const Zone& successor(const Zone& z, int bit) const;
+  // The slice a zone lies in: its s-range [s_begin, s_end).
+  const Slice& slice_of(const Zone& z) const { return slices[static_cast<std::size_t>(z.slice)]; }
 };
 
 // `boxes` may hold at most Cfg::kMaxDecisionObstacles entries; boxes outside

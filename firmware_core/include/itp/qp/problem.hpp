@@ -32,8 +32,9 @@ struct QpProblem {
   S h_band[kNz][kBandz];
   S g[kNz];                 // linear cost                       [kN]
   // Row-sparse A: row r has a_nnz[r] entries, columns strictly increasing.
-  std::int16_t a_nnz[kMz];              //             [kM]
-  std::int16_t a_col[kMz][kNnzz];        //             [kM x kNnz]
+  using ColumnIndex = typename D::ColumnIndex;  // std::uint8_t for N <= 255
+  ColumnIndex a_nnz[kMz];                //             [kM]
+  ColumnIndex a_col[kMz][kNnzz];         //             [kM x kNnz]
   S a_val[kMz][kNnzz];                   //             [kM x kNnz]
   S lba[kMz];   // row lower bounds, may be -inf      [kM]
   S uba[kMz];   // row upper bounds, may be +inf      [kM]
@@ -94,9 +95,9 @@ struct QpProblem {
     if (r < 0 || r >= m || col < 0 || col >= n) return false;
     const int k = a_nnz[r];
     if (k >= kNnz || (k > 0 && a_col[r][k - 1] >= col)) return false;
-    a_col[r][k] = static_cast<std::int16_t>(col);
+    a_col[r][k] = static_cast<ColumnIndex>(col);
     a_val[r][k] = value;
-    a_nnz[r] = static_cast<std::int16_t>(k + 1);
+    a_nnz[r] = static_cast<ColumnIndex>(k + 1);
     return true;
   }
 
@@ -155,9 +156,9 @@ bool is_valid(const QpProblem<D>& p) {
     const int nnz = p.a_nnz[r];
     if (nnz < 0 || nnz > D::kMaxRowNonzeros) return false;
     if (nnz == 0) continue;
-    const std::int16_t* col = p.a_col[r];
+    const typename D::ColumnIndex* col = p.a_col[r];
     const S* val = p.a_val[r];
-    ok = ok & (col[0] >= 0) & (col[nnz - 1] < p.n);
+    ok = ok & (static_cast<int>(col[0]) >= 0) & (col[nnz - 1] < p.n);
     zero_sum += val[0] * S(0);
     for (int k = 1; k < nnz; ++k) {
       ok = ok & (col[k] > col[k - 1]);

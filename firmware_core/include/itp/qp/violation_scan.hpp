@@ -83,7 +83,7 @@ int most_violated(const QpProblem<D>& p, QpWorkspace<D>& ws, typename D::Scalar 
     const S travelled = pre[end_block[r]] - pre[first_block[r]];
     if (cert[r] - travelled > threshold) continue;
     const S* val = p.a_val[r];
-    const std::int16_t* col = p.a_col[r];
+    const typename D::ColumnIndex* col = p.a_col[r];
     const int nnz = p.a_nnz[r];
     S s0 = S(0), s1 = S(0), t0 = S(0), t1 = S(0);
     int k = 0;
