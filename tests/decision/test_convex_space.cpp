@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <memory>
 #include <random>
 
@@ -237,4 +238,75 @@ TEST_CASE("a box ending just ahead of the ego ends there, not at the next cut") 
   const Zone& free = space->zones[static_cast<std::size_t>(space->slices[1].first_zone)];
   CHECK(free.l_min == doctest::Approx(-1.4));
   CHECK(free.l_max == doctest::Approx(7.7));
+}
+
+namespace {
+
+// Zones lost to capacity would leave Σ zone_count (counted per slice as each
+// gap is found) above zones.size() (what was stored).
+std::size_t zones_found(const ConvexSpace& space) {
+  std::size_t n = 0;
+  for (const Slice& sl : space.slices) n += static_cast<std::size_t>(sl.zone_count);
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("zone capacity: the worst case of N nested boxes with every road cut inside holds exactly kMaxZones") {
+  // 15 boxes nested in s (2 m apart, the shortest slice kept), narrow and
+  // spread across a 40 m road so that every gap in every slice is a zone, and
+  // the 8 road cuts inside the innermost box: each box overlaps one slice per
+  // cut inside it plus one, and each slice has (its boxes + 1) zones.
+  using Cfg = itp::DefaultConfig;
+  constexpr int kN = Cfg::kMaxDecisionObstacles;
+  constexpr int kR = Cfg::kMaxRoadCuts;
+  RoadSl r = road(-20, 20);
+  for (int c = 0; c < kR; ++c) {
+    REQUIRE(r.cuts.push_back(static_cast<Scalar>(2 * kN + 3 + 4 * c)));
+  }
+  std::vector<SlBox> boxes;
+  for (int k = 0; k < kN; ++k) {
+    const Scalar l0 = -17.5 + 2.4 * static_cast<Scalar>(k);
+    boxes.push_back(box(2 + 2 * static_cast<Scalar>(k), 98 - 2 * static_cast<Scalar>(k), l0, l0 + 0.4, k));
+  }
+  REQUIRE(r.cuts.back() < boxes.back().s_max);
+  auto space = std::make_unique<ConvexSpace>();
+  REQUIRE(build_convex_space(r, boxes, params(), *space) == ConvexSpaceStatus::kOk);
+  CHECK(space->slices.size() == static_cast<std::size_t>(Cfg::kMaxSlices));
+  // Counted independently of the formula in config.hpp: box k contains the
+  // ends of boxes k+1..N-1 and every road cut.
+  std::size_t expected = space->slices.size();
+  for (int k = 0; k < kN; ++k) expected += static_cast<std::size_t>(2 * (kN - 1 - k) + kR + 1);
+  CHECK(zones_found(*space) == expected);
+  CHECK(expected == static_cast<std::size_t>(Cfg::kMaxZones));  // the bound is tight
+  CHECK(space->zones.size() == expected);                        // and nothing was lost
+}
+
+TEST_CASE("zone capacity: random wide-road scenes never lose a zone") {
+  using Cfg = itp::DefaultConfig;
+  std::mt19937 rng(20261126);
+  std::uniform_real_distribution<Scalar> u(0, 1);
+  auto space = std::make_unique<ConvexSpace>();
+  std::size_t most = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    RoadSl r = road(-20, 20);
+    const int cuts = static_cast<int>(rng() % (Cfg::kMaxRoadCuts + 1));
+    Scalar c = 0;
+    for (int i = 0; i < cuts; ++i) {
+      c += 2 + 10 * u(rng);
+      if (c < 100) REQUIRE(r.cuts.push_back(c));
+    }
+    std::vector<SlBox> boxes;
+    const int n = static_cast<int>(rng() % (Cfg::kMaxDecisionObstacles + 1));
+    for (int i = 0; i < n; ++i) {
+      const Scalar s0 = -10 + 110 * u(rng);
+      const Scalar l0 = -20 + 40 * u(rng);
+      boxes.push_back(box(s0, s0 + 1 + 80 * u(rng), l0, l0 + 0.2 + 1.0 * u(rng), i));
+    }
+    if (build_convex_space(r, boxes, params(), *space) != ConvexSpaceStatus::kOk) continue;
+    REQUIRE(zones_found(*space) == space->zones.size());
+    most = std::max(most, space->zones.size());
+  }
+  MESSAGE("most zones in a random scene: " << most << " of " << Cfg::kMaxZones);
+  CHECK(most > 0);
 }

@@ -190,7 +190,16 @@ struct Configuration : Sizes {
   // kMaxRoadCuts, hence at most 2N + 1 + kMaxRoadCuts slices.
   static constexpr int kMaxSlices = 2 * kMaxDecisionObstacles + 1 + Sizes::kMaxRoadCuts;
   static constexpr int kMaxZonesPerSlice = kMaxDecisionObstacles + 1;  // gaps between N intervals
-  static constexpr int kMaxZones = kMaxSlices * kMaxZonesPerSlice;
+  // All zones, tight: a slice holds at most (boxes overlapping it) + 1 zones,
+  // and a box overlaps (cuts strictly inside it) + 1 slices. Of two boxes'
+  // four ends at most two lie strictly inside the other box (nested or
+  // overlapping), so box ends fall inside boxes at most N(N - 1) times, road
+  // cuts at most N kMaxRoadCuts times:
+  //   zones <= N(N - 1) + N kMaxRoadCuts + N + kMaxSlices
+  // (N = 15, 8 road cuts: 384 instead of kMaxSlices x kMaxZonesPerSlice = 624;
+  // tests/decision/test_convex_space.cpp builds a scene with exactly 384).
+  static constexpr int kMaxZones =
+      kMaxDecisionObstacles * (kMaxDecisionObstacles + Sizes::kMaxRoadCuts) + kMaxSlices;
   static constexpr int kKnotStates = 3;  // (value, 1st, 2nd derivative) per knot
   static constexpr int kPathVariables = (kPathBlocks + 1) * kKnotStates;
   static constexpr int kSpeedVariables = (kSpeedBlocks + 1) * kKnotStates;

@@ -129,7 +129,8 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
       z.l_max = gap_hi;
       z.right_box = cursor_box;
       z.left_box = gap_hi_box;
-      // zone_count < kMaxZonesPerSlice per slice, slices <= kMaxSlices: kMaxZones = capacity.
+      // zone_count < kMaxZonesPerSlice per slice; over all slices at most
+      // kMaxZones = capacity (config.hpp: the count of box/slice overlaps).
       static_cast<void>(out.zones.push_back(z));
       ++slice.zone_count;
     }
