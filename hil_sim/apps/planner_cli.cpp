@@ -73,9 +73,16 @@ json decision_json(const itp::planner::BasicPlanner<Cfg>& planner) {
                      {"area_cost", z.area_cost}, {"lane_cost", z.lane_cost}});
   }
   json kept = json::array();
+  // The stage keeps each decision's score; its samples come from its coarse QP
+  // solved again, cold (evaluate_again: the same optimum within the QP's tolerance).
+  using Stage = std::remove_cvref_t<decltype(stage)>;
+  auto evaluator = std::make_unique<typename Stage::CoarseEvaluator>();
+  auto again = std::make_unique<typename Stage::CoarseResult>();
   for (std::size_t i = 0; i < stage.decisions().kept.size(); ++i) {
     const auto& d = stage.decisions().kept[i];
     const auto& c = stage.coarse(i);
+    stage.evaluate_again(i, *evaluator, *again);
+    const auto& samples_of = *again;
     json sides = json::array();
     for (const auto& b : planner.boxes()) {
       const auto side = itp::decision::side_of(space, d, b);
@@ -85,9 +92,10 @@ json decision_json(const itp::planner::BasicPlanner<Cfg>& planner) {
                                                                        : "not_reached"}});
     }
     json samples = json::array();
-    for (int k = 0; k < c.samples; ++k) {
+    for (int k = 0; itp::qp::is_usable(c.status) && k < samples_of.samples; ++k) {
       const auto u = static_cast<std::size_t>(k);
-      samples.push_back({{"s", c.s[u]}, {"l", c.l[u]}, {"t", c.t[u]}, {"l_lb", c.l_lb[u]}, {"l_ub", c.l_ub[u]}, {"t_lb", c.t_lb[u]}});
+      samples.push_back({{"s", samples_of.s[u]}, {"l", samples_of.l[u]}, {"t", samples_of.t[u]},
+                         {"l_lb", samples_of.l_lb[u]}, {"l_ub", samples_of.l_ub[u]}, {"t_lb", samples_of.t_lb[u]}});
     }
     kept.push_back({{"rank", i},
                     {"zones", std::vector<int>(d.zones.begin(), d.zones.end())},

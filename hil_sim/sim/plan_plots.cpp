@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <regex>
+#include <type_traits>
 
 #include "itp/decision/corridor.hpp"
 #include "itp/scene/obstacle_motion.hpp"
@@ -77,8 +79,15 @@ std::string plot_sl(const itp::planner::BasicPlanner<Cfg>& planner, const itp::s
     c.text(0.5 * (b.s_min + b.s_max), b.l_max + 0.3, fmt::format("#{}", b.obstacle_id), 11, "middle");
   }
   // Coarse samples of every kept decision (the chosen one bold), and the path.
+  // The stage keeps only scores: each usable decision's samples come from its
+  // coarse QP solved again (evaluate_again).
+  using Stage = std::remove_cvref_t<decltype(stage)>;
+  auto evaluator = std::make_unique<typename Stage::CoarseEvaluator>();
+  auto again = std::make_unique<typename Stage::CoarseResult>();
   for (std::size_t i = 0; i < stage.decisions().kept.size(); ++i) {
-    const auto& cr = stage.coarse(i);
+    if (!itp::qp::is_usable(stage.coarse(i).status)) continue;
+    stage.evaluate_again(i, *evaluator, *again);
+    const auto& cr = *again;
     if (!itp::qp::is_usable(cr.status)) continue;
     std::vector<Point2> pts;
     for (int k = 0; k < cr.samples; ++k) {

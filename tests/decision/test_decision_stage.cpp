@@ -23,6 +23,14 @@ CoarseInput input(Scalar l_init = 0, Scalar v = 10) {
 struct Stage {
   std::unique_ptr<DecisionStage> stage = std::make_unique<DecisionStage>();
   DecisionStatus status = DecisionStatus::kInvalidInput;
+  std::unique_ptr<CoarseEvaluator> evaluator = std::make_unique<CoarseEvaluator>();
+  std::unique_ptr<CoarseResult> result = std::make_unique<CoarseResult>();
+
+  // Kept decision i's coarse samples (the stage keeps only its score).
+  const CoarseResult& coarse(std::size_t i) {
+    stage->evaluate_again(i, *evaluator, *result);
+    return *result;
+  }
 };
 
 Stage run(const RoadSl& r, const std::vector<SlBox>& boxes, const CoarseInput& in) {
@@ -70,7 +78,7 @@ TEST_CASE("free road: one decision, kept in lane, at the speed limit") {
   auto s = run(road(-1.75, 5.25), {}, in);
   REQUIRE(s.status == DecisionStatus::kOk);
   REQUIRE(s.stage->best() == 0);
-  const CoarseResult& c = s.stage->coarse(0);
+  const CoarseResult& c = s.coarse(0);
   check_coarse_feasible(c, in);
   for (int i = 0; i < c.samples; ++i) {
     CHECK(std::fabs(c.l[static_cast<std::size_t>(i)]) < 1e-6);
@@ -87,14 +95,14 @@ TEST_CASE("one obstacle in lane: both sides evaluated, the roomier wins, swervin
   REQUIRE(s.status == DecisionStatus::kOk);
   REQUIRE(s.stage->decisions().kept.size() == 2);
   for (std::size_t i = 0; i < 2; ++i) {
-    check_coarse_feasible(s.stage->coarse(i), in);
+    check_coarse_feasible(s.coarse(i), in);
     CHECK(s.stage->coarse(i).path_cost > 0);
   }
   // Symmetric room: the geometric tie is broken by zone order; what matters is
   // that the chosen corridor clears the obstacle on the side it names.
   const auto best = static_cast<std::size_t>(s.stage->best());
   const Side side = side_of(s.stage->space(), s.stage->decisions().kept[best], boxes[0]);
-  const CoarseResult& c = s.stage->coarse(best);
+  const CoarseResult& c = s.coarse(best);
   for (int i = 0; i < c.samples; ++i) {
     const auto u = static_cast<std::size_t>(i);
     if (c.s[u] >= 40 && c.s[u] <= 45) {
@@ -112,7 +120,7 @@ TEST_CASE("an obstacle blocking every lane: the decision is blocked and the coar
   const std::vector<SlBox> boxes{box(50, 55, -3, 7, 1)};
   auto s = run(road(-1.75, 5.25), boxes, in);
   REQUIRE(s.status == DecisionStatus::kBlocked);
-  const CoarseResult& c = s.stage->coarse(static_cast<std::size_t>(s.stage->best()));
+  const CoarseResult& c = s.coarse(static_cast<std::size_t>(s.stage->best()));
   check_coarse_feasible(c, in);
   CHECK(c.s.back() <= 50 - in.stop_margin + 1e-9);
 }
@@ -126,7 +134,7 @@ TEST_CASE("a target lane to the left: the decision that ends in it wins") {
   REQUIRE(s.status == DecisionStatus::kOk);
   const auto best = static_cast<std::size_t>(s.stage->best());
   CHECK(side_of(s.stage->space(), s.stage->decisions().kept[best], boxes[0]) == Side::kLeft);
-  CHECK(s.stage->coarse(best).l.back() == doctest::Approx(3.5).epsilon(0.05));
+  CHECK(s.coarse(best).l.back() == doctest::Approx(3.5).epsilon(0.05));
 }
 
 TEST_CASE("no zone for the ego gives no decision, never a crash") {
@@ -168,4 +176,32 @@ TEST_CASE("a decision run within a budget: no more coarse QPs, iterations and tr
   stage->run(road(-5.25, 5.25), boxes, params(0), in, DecisionWeights{}, DecisionBudget{4096, 20, 1},
              itp::TickSource{}, work);
   CHECK(work.coarse_iterations <= 1);
+}
+
+TEST_CASE("the kept scores are the run's evaluations: a cold evaluation again gives the same status, costs and end") {
+  // Two decisions around an obstacle and one blocked-lane case: the stage
+  // keeps only scores; evaluate_again solves each coarse QP cold (the run
+  // hotstarted them), to the same optimum within the QP's tolerance.
+  const CoarseInput in = input(0, 10);
+  for (const std::vector<SlBox>& boxes : {std::vector<SlBox>{box(40, 45, -0.9, 0.9, 1)},
+                                          std::vector<SlBox>{box(30, 34, -1.2, 0.4, 1), box(60, 66, 0.8, 3.0, 2)}}) {
+    auto s = run(road(-5.25, 5.25), boxes, in);
+    REQUIRE(s.status == DecisionStatus::kOk);
+    REQUIRE(s.stage->decisions().kept.size() >= 2);
+    for (std::size_t i = 0; i < s.stage->decisions().kept.size(); ++i) {
+      const itp::decision::CoarseScore& kept = s.stage->coarse(i);
+      const CoarseResult& again = s.coarse(i);
+      REQUIRE(again.status == kept.status);
+      if (!itp::qp::is_usable(kept.status)) continue;
+      CHECK(again.samples == kept.samples);
+      CHECK(again.decision_cost == doctest::Approx(kept.decision_cost).epsilon(1e-6));
+      CHECK(again.path_cost == doctest::Approx(kept.path_cost).epsilon(1e-6));
+      CHECK(again.l[static_cast<std::size_t>(again.samples - 1)] == doctest::Approx(kept.l_end).epsilon(1e-6));
+      CHECK(again.l_end == doctest::Approx(kept.l_end).epsilon(1e-6));
+    }
+  }
+  CoarseResult out;
+  auto s = run(road(-5.25, 5.25), {}, in);
+  s.stage->evaluate_again(99, *s.evaluator, out);  // no such decision
+  CHECK(out.status == itp::qp::QpStatus::kInvalidInput);
 }

@@ -224,6 +224,7 @@ void BasicCoarseEvaluator<Cfg>::evaluate(const ConvexSpace& space, const Decisio
     out.l[static_cast<std::size_t>(i)] = qp_.result().x[l_var(i)];
     out.t[static_cast<std::size_t>(i)] = qp_.result().x[t_var(i)];
   }
+  out.l_end = out.samples > 0 ? out.l[static_cast<std::size_t>(out.samples - 1)] : Scalar(0);
   score(decision, in, w, out);
 }
 

@@ -32,6 +32,8 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
   work = DecisionWork{};
   best_ = -1;
   set_.kept.clear();
+  input_ = input;
+  weights_ = weights.coarse;
   const ConvexSpaceStatus cs = build_convex_space(road, boxes, params, space_);
   if (cs == ConvexSpaceStatus::kInvalidInput) {
     return DecisionStatus::kInvalidInput;
@@ -53,20 +55,21 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
       left = budget.ledger->grant(Cfg::kCoarseQpSetupWork, Cfg::kCoarseIterationWork, left);
     }
     if (work.coarse_qps >= budget.coarse_qps || left <= 0) {
-      coarse_[i] = CoarseResult{};  // kInvalidInput: not usable
+      scores_[i] = CoarseScore{};  // kInvalidInput: not usable
       work.budget_out = true;
       continue;
     }
-    evaluator_.evaluate(space_, set_.kept[i], input, weights.coarse, coarse_[i], left);
+    evaluator_.evaluate(space_, set_.kept[i], input, weights.coarse, result_, left);
+    scores_[i] = static_cast<const CoarseScore&>(result_);
     ++work.coarse_qps;
-    work.coarse_iterations += coarse_[i].qp_iterations;
+    work.coarse_iterations += scores_[i].qp_iterations;
     if (budget.ledger != nullptr) {
-      budget.ledger->charge(Cfg::kCoarseQpSetupWork, Cfg::kCoarseIterationWork, coarse_[i].qp_iterations);
+      budget.ledger->charge(Cfg::kCoarseQpSetupWork, Cfg::kCoarseIterationWork, scores_[i].qp_iterations);
     }
-    if (!qp::is_usable(coarse_[i].status)) {
+    if (!qp::is_usable(scores_[i].status)) {
       continue;
     }
-    if (best_ < 0 || coarse_[i].decision_cost < coarse_[static_cast<std::size_t>(best_)].decision_cost) {
+    if (best_ < 0 || scores_[i].decision_cost < scores_[static_cast<std::size_t>(best_)].decision_cost) {
       best_ = static_cast<int>(i);
     }
   }
@@ -76,6 +79,16 @@ DecisionStatus BasicDecisionStage<Cfg>::run(const RoadSl& road, std::span<const 
   }
   return set_.kept[static_cast<std::size_t>(best_)].reaches_end ? DecisionStatus::kOk
                                                                : DecisionStatus::kBlocked;
+}
+
+template <class Cfg>
+void BasicDecisionStage<Cfg>::evaluate_again(std::size_t i, CoarseEvaluator& evaluator, CoarseResult& out) const {
+  out = CoarseResult{};
+  if (i >= set_.kept.size()) {
+    return;  // kInvalidInput
+  }
+  evaluator.reset();
+  evaluator.evaluate(space_, set_.kept[i], input_, weights_, out);
 }
 
 // Explicit instantiations for every configuration (itp/configurations.hpp).

@@ -57,7 +57,7 @@ int rank_decisions(const decision::BasicDecisionStage<Cfg>& stage, std::span<con
   std::array<Scalar, Cfg::kKeptDecisions> cost{};
   int n = 0;
   for (std::size_t i = 0; i < stage.decisions().kept.size(); ++i) {  // <= kKeptDecisions
-    const decision::BasicCoarseResult<Cfg>& cr = stage.coarse(i);
+    const decision::CoarseScore& cr = stage.coarse(i);
     if (!qp::is_usable(cr.status)) {
       continue;
     }
@@ -66,7 +66,7 @@ int rank_decisions(const decision::BasicDecisionStage<Cfg>& stage, std::span<con
     if (!d.reaches_end && cr.samples > 0) {
       // A stop before a blockage waits in the target lane, not half-way into
       // another one (where oncoming traffic may come).
-      c += settings.blocked_lane_weight * std::fabs(cr.l[static_cast<std::size_t>(cr.samples - 1)] - lane_target);
+      c += settings.blocked_lane_weight * std::fabs(cr.l_end - lane_target);
     }
     cost[static_cast<std::size_t>(n)] = c;
     order[static_cast<std::size_t>(n)] = static_cast<int>(i);

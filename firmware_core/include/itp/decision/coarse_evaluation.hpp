@@ -52,16 +52,12 @@ struct BasicCoarseInput {
   const BasicCurvatureProfile<Cfg>* kappa_ref = nullptr;  // κ_ref(s); null = straight road
 };
 
-template <class Cfg>
-struct BasicCoarseResult {
+// What the decision stage keeps of each evaluated decision: its status, the
+// terms of eq. (4), and where its coarse path ends (the ranking reads l_end).
+struct CoarseScore {
   qp::QpStatus status = qp::QpStatus::kInvalidInput;
   int samples = 0;
-  Scalar ds = 0;                                    // [m] sample spacing
-  std::array<Scalar, Cfg::kCoarseSamples> s{};      // [m]
-  std::array<Scalar, Cfg::kCoarseSamples> l{};      // [m]
-  std::array<Scalar, Cfg::kCoarseSamples> t{};      // [s]
-  std::array<Scalar, Cfg::kCoarseSamples> l_lb{}, l_ub{};  // [m] corridor at the samples
-  std::array<Scalar, Cfg::kCoarseSamples> t_lb{};          // [s]
+  Scalar l_end = 0;                       // [m] l at the last sample (when usable)
   Scalar kappa_mean = 0, kappa_var = 0;   // |κ| mean [1/m], variance [1/m^2]
   Scalar a_lat_mean = 0, a_lat_var = 0;   // [m/s^2], [m^2/s^4]
   Scalar a_lon_mean = 0, a_lon_var = 0;
@@ -69,6 +65,17 @@ struct BasicCoarseResult {
   Scalar dynamic_cost = 0;   // w21..w24 terms
   Scalar decision_cost = 0;  // geometric cost + path cost + dynamic cost (eq. 4)
   int qp_iterations = 0;
+};
+
+// One evaluation in full: the score and the coarse samples it came from.
+template <class Cfg>
+struct BasicCoarseResult : CoarseScore {
+  Scalar ds = 0;                                    // [m] sample spacing
+  std::array<Scalar, Cfg::kCoarseSamples> s{};      // [m]
+  std::array<Scalar, Cfg::kCoarseSamples> l{};      // [m]
+  std::array<Scalar, Cfg::kCoarseSamples> t{};      // [s]
+  std::array<Scalar, Cfg::kCoarseSamples> l_lb{}, l_ub{};  // [m] corridor at the samples
+  std::array<Scalar, Cfg::kCoarseSamples> t_lb{};          // [s]
 };
 
 // Owns the coarse QP's problem, workspace and result (about 50 KB with the

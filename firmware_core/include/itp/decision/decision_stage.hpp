@@ -54,6 +54,7 @@ class BasicDecisionStage {
   using DecisionSet = BasicDecisionSet<Cfg>;
   using CoarseInput = BasicCoarseInput<Cfg>;
   using CoarseResult = BasicCoarseResult<Cfg>;
+  using CoarseEvaluator = BasicCoarseEvaluator<Cfg>;
 
   void reset() { evaluator_.reset(); }
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) {
@@ -70,16 +71,26 @@ class BasicDecisionStage {
 
   const ConvexSpace& space() const { return space_; }
   const DecisionSet& decisions() const { return set_; }
-  // Coarse results, index-aligned with decisions().kept.
-  const CoarseResult& coarse(std::size_t i) const { return coarse_[i]; }
+  // Coarse scores, index-aligned with decisions().kept.
+  const CoarseScore& coarse(std::size_t i) const { return scores_[i]; }
   // Index of the chosen decision in decisions().kept, -1 if none.
   int best() const { return best_; }
+  // The coarse samples of kept decision i, for host tools and tests: its
+  // coarse QP again, as the last run set it up, solved cold in `evaluator`
+  // (the run hotstarted it; the optimum is the same within the QP's
+  // tolerance). The run keeps only the scores: 20 results of 1 KB each were
+  // the decision stage's second-largest table, and nothing on the target
+  // reads their samples.
+  void evaluate_again(std::size_t i, CoarseEvaluator& evaluator, CoarseResult& out) const;
 
  private:
   ConvexSpace space_{};
   DecisionSet set_{};
-  BasicCoarseEvaluator<Cfg> evaluator_{};
-  std::array<CoarseResult, Cfg::kKeptDecisions> coarse_{};
+  CoarseEvaluator evaluator_{};
+  CoarseResult result_{};  // the decision being evaluated
+  std::array<CoarseScore, Cfg::kKeptDecisions> scores_{};
+  CoarseInput input_{};    // the last run's, for evaluate_again
+  CoarseWeights weights_{};
   int best_ = -1;
 };
 
