@@ -214,6 +214,7 @@ SceneRunResult run_scene(const World& world, BasicPlannerEndpoint<Cfg>& endpoint
       rec.left_out = conv.left_out();
       rec.reference_deviation_m = conv.reference_deviation_m;
       rec.boundary_narrowing_m = conv.boundary_narrowing_m;
+      rec.stop_wall_lane = conv.stop_wall_lane;
       metrics.add_left_out(rec.left_out);
       picker.remember(k, t, *scene);
       const EndpointResult er = endpoint.plan(*scene, t, *plan);

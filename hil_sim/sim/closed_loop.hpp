@@ -63,6 +63,7 @@ struct CycleRecord {
   int left_out = 0;                // obstacles in range the scene could not hold (least relevant first)
   double reference_deviation_m = 0.0;  // resampling of the road window to the capacities
   double boundary_narrowing_m = 0.0;   // (ConvertResult)
+  std::optional<long> stop_wall_lane;  // the ego's red light's lane, when its stop wall was sent (ConvertResult)
 };
 
 // A cycle worth a look (RunOptions::keep_snapshot): the first fallback /

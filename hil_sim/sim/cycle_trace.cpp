@@ -31,6 +31,7 @@ void write_cycle_trace(std::ostream& out, const std::string& scene, const SceneR
     if (c.left_out > 0) j["obstacles_left_out"] = c.left_out;
     if (c.reference_deviation_m > 0) j["reference_deviation_m"] = c.reference_deviation_m;
     if (c.boundary_narrowing_m > 0) j["boundary_narrowing_m"] = c.boundary_narrowing_m;
+    if (c.stop_wall_lane) j["stop_wall_lane"] = *c.stop_wall_lane;
     j["clearance"] = c.clearance ? json(*c.clearance) : json(nullptr);
     if (k < r.trace.size()) {
       j["x"] = r.trace[k].pose.x;

@@ -7,6 +7,7 @@
 
 #include "itp/configurations.hpp"
 #include "sim/box_geometry.hpp"
+#include "sim/ego_traffic_lights.hpp"
 #include "sim/lane_prediction.hpp"
 #include "sim/road_resampling.hpp"
 
@@ -165,6 +166,12 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
     const OrientedBox box = obstacle_box(o);
     const double d = approach([&](double) { return std::optional<OrientedBox>(box); });
     statics.push_back({{d, is_ahead(ego, o.x, o.y), distance, o.id}, {o.id, o.x, o.y, o.heading, o.length, o.width}});
+  }
+  // The ego's own red light: a wall across the road, the most relevant of all.
+  if (const std::optional<StopWall> wall = ego_stop_wall(w, arc, ego, now)) {
+    const StaticObstacle& o = wall->box;
+    statics.push_back({{0.0, true, 0.0, o.id}, {o.id, o.x, o.y, o.heading, o.length, o.width}});
+    res.stop_wall_lane = wall->lane;
   }
   res.static_left_out = keep_most_relevant(statics, out.static_obstacles);
 

@@ -14,6 +14,7 @@
 // obstacles in range than Cfg holds are cut to the most relevant ones, with a
 // count of those left out. Capacity never makes the conversion fail.
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "itp/scene/scene.hpp"
@@ -48,6 +49,9 @@ struct ConvertResult {
   // that distance, by which both boundaries are moved inwards).
   double reference_deviation_m = 0.0;
   double boundary_narrowing_m = 0.0;
+  // A red (or yellow, stoppable) light on the ego's route put a stop wall into
+  // the scene (sim/ego_traffic_lights.hpp): the lane it belongs to.
+  std::optional<long> stop_wall_lane;
   int left_out() const { return static_left_out + dynamic_left_out; }
 };
 
