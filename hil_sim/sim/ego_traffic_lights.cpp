@@ -12,21 +12,10 @@ constexpr double kLookAhead = 160.0;           // [m] stop lines farther ahead a
 constexpr double kSameDirection = 0.7853981633974483;  // [rad] |lane heading - route heading| below: the route's lane
 constexpr double kWallOverhang = 0.5;          // [m] beyond each road edge
 
-// Every light of the lane shows a stop colour (LaneMap::stop_at's rule);
-// `red_only`: red or redYellow.
-bool lights_stop(const Lane& lane, double t, bool red_only) {
-  if (lane.traffic_lights.empty()) return false;
-  for (const TrafficLightCycle& c : lane.traffic_lights) {
-    const std::string& color = light_color(c, t);
-    if (red_only ? !(color == "red" || color == "redYellow") : !is_stop_color(color)) return false;
-  }
-  return true;
-}
-
 }  // namespace
 
-std::optional<StopWall> ego_stop_wall(const World& w, std::span<const double> ref_arc, const EgoNow& ego,
-                                      double now) {
+std::optional<StopWall> ego_stop_wall(const World& w, const LaneMap& lanes, std::span<const double> ref_arc,
+                                      const EgoNow& ego, double now) {
   if (w.lanes.empty() || w.reference_line.size() < 2) return std::nullopt;
   const OrientedBox body = ego_box(Pose{ego.x, ego.y, ego.heading}, w.ego.length, w.ego.width, w.ego.wheelbase);
   const double front_s = project_to_polyline(w.reference_line, body.cx + 0.5 * body.length * std::cos(body.heading),
@@ -48,8 +37,10 @@ std::optional<StopWall> ego_stop_wall(const World& w, std::span<const double> re
     const double room = on_route.s - front_s;  // [m] front bumper to the line
     if (room <= 0.0 || room > kLookAhead || (best && on_route.s >= best->line_s)) continue;
     const double needed = v * v / (2.0 * room);  // [m/s^2] to stop at the line
-    const bool red = lights_stop(lane, now, true);
-    const bool stop = red ? needed <= kLightHardDecel : lights_stop(lane, now, false) && needed <= kLightComfortDecel;
+    // The lane's lights as the prediction reads them: red (or redYellow) with
+    // `arriving`, any stop colour without.
+    const bool red = lanes.stop_at(i, now, true);
+    const bool stop = red ? needed <= kLightHardDecel : lanes.stop_at(i, now) && needed <= kLightComfortDecel;
     if (!stop) continue;
     // Across the drivable road just past the line.
     const double s = on_route.s + 0.5 * kStopWallDepth;

@@ -14,6 +14,7 @@
 #include <optional>
 #include <span>
 
+#include "sim/lane_prediction.hpp"
 #include "sim/scene_convert.hpp"
 #include "sim/world.hpp"
 
@@ -31,8 +32,8 @@ struct StopWall {
 };
 
 // The nearest stop wall ahead of the ego at scene time `now`, if any.
-// `ref_arc`: polyline_arc_lengths(world.reference_line).
-std::optional<StopWall> ego_stop_wall(const World& world, std::span<const double> ref_arc, const EgoNow& ego,
-                                      double now);
+// `lanes`: LaneMap(world.lanes); `ref_arc`: polyline_arc_lengths(world.reference_line).
+std::optional<StopWall> ego_stop_wall(const World& world, const LaneMap& lanes, std::span<const double> ref_arc,
+                                      const EgoNow& ego, double now);
 
 }  // namespace hil::sim

@@ -168,7 +168,8 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
     statics.push_back({{d, is_ahead(ego, o.x, o.y), distance, o.id}, {o.id, o.x, o.y, o.heading, o.length, o.width}});
   }
   // The ego's own red light: a wall across the road, the most relevant of all.
-  if (const std::optional<StopWall> wall = ego_stop_wall(w, arc, ego, now)) {
+  const LaneMap lanes(w.lanes);
+  if (const std::optional<StopWall> wall = ego_stop_wall(w, lanes, arc, ego, now)) {
     const StaticObstacle& o = wall->box;
     statics.push_back({{0.0, true, 0.0, o.id}, {o.id, o.x, o.y, o.heading, o.length, o.width}});
     res.stop_wall_lane = wall->lane;
@@ -180,7 +181,6 @@ ConvertResult make_planner_scene(const World& w, const EgoNow& ego, double now, 
   // horizon (+0.5 s) Cfg holds (the road configuration: 0.2 s).
   const double step = prediction_step<Cfg>();
   const int steps = static_cast<int>(std::lround((kHorizon + 0.5) / step));
-  const LaneMap lanes(w.lanes);
   std::vector<double> times;
   for (int k = 0; k <= steps; ++k) times.push_back(step * k);
   for (const DynamicObstacle& o : w.dynamic_obstacles) {

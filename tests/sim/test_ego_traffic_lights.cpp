@@ -50,7 +50,7 @@ double front_x(const World& w, const Pose& rear_axle) {
 }
 
 std::optional<StopWall> wall_at(const World& w, double now) {
-  return ego_stop_wall(w, polyline_arc_lengths(w.reference_line), ego_at_start(w), now);
+  return ego_stop_wall(w, LaneMap(w.lanes), polyline_arc_lengths(w.reference_line), ego_at_start(w), now);
 }
 
 }  // namespace
