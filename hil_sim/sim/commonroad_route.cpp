@@ -247,23 +247,34 @@ const std::vector<cr::Vec2>* outer_bound(const Network& net, const cr::Lanelet& 
   return lane_left ? &lane->left_bound : &lane->right_bound;
 }
 
-// Dense (s, l) samples of a polyline projected onto the reference line, kept
-// where lo <= s <= hi.
-void project_samples(const std::vector<Point2>& reference, const std::vector<Point2>& line, double lo, double hi,
-                     std::vector<EdgeSample>& out) {
+// Dense (s, l) samples of a polyline projected onto the reference line, in
+// the polyline's order.
+std::vector<EdgeSample> projected_samples(const std::vector<Point2>& reference, const std::vector<Point2>& line) {
+  std::vector<EdgeSample> out;
   for (const Point2& p : densified(line, kEdgeSampleSpacing)) {
     const PolylineProjection pr = project_to_polyline(reference, p.x, p.y);
-    if (pr.s >= lo && pr.s <= hi) out.push_back({pr.s, pr.l});
+    out.push_back({pr.s, pr.l});
+  }
+  return out;
+}
+
+// Appends the samples with lo <= s <= hi.
+void append_within(const std::vector<EdgeSample>& samples, double lo, double hi, std::vector<EdgeSample>& out) {
+  for (const EdgeSample& e : samples) {
+    if (e.s >= lo && e.s <= hi) out.push_back(e);
   }
 }
 
 // The outer-bound samples of one route lanelet over its range [lo, hi], with
 // any stretch that the outer bound does not cover (a neighbour shorter than
 // the route lanelet) filled from the route lanelet's own bound on that side.
+// The own bound is projected once for all gaps: a sparse outer bound has a gap
+// between every two samples (fuzz_commonroad: a 40 km bound took a minute
+// when each gap projected it again).
 std::vector<EdgeSample> side_samples(const std::vector<Point2>& reference, const std::vector<Point2>& outer,
                                      const std::vector<Point2>& own, double lo, double hi) {
   std::vector<EdgeSample> out;
-  project_samples(reference, outer, lo, hi, out);
+  append_within(projected_samples(reference, outer), lo, hi, out);
   std::sort(out.begin(), out.end(), [](const EdgeSample& a, const EdgeSample& b) { return a.s < b.s; });
   std::vector<std::pair<double, double>> gaps;
   double covered = lo;
@@ -272,7 +283,9 @@ std::vector<EdgeSample> side_samples(const std::vector<Point2>& reference, const
     covered = std::max(covered, e.s);
   }
   if (hi - covered > 2 * kEdgeSampleSpacing) gaps.emplace_back(covered, hi);
-  for (const auto& [a, b] : gaps) project_samples(reference, own, a, b, out);
+  if (gaps.empty()) return out;
+  const std::vector<EdgeSample> own_samples = projected_samples(reference, own);
+  for (const auto& [a, b] : gaps) append_within(own_samples, a, b, out);
   return out;
 }
 
