@@ -21,6 +21,10 @@ RAM_BUDGET ?=
 # The road image: the production service for RoadConfig (32 + 32 objects; no
 # RAM budget, its figure is reported).
 ROAD_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_road.elf
+# The float image: the production service with float as the planner's scalar
+# (firmware_core_f32); its own RAM budget, checked by `make size`.
+F32_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_f32.elf
+F32_RAM_BUDGET := 199680
 # The test image (QP-check service), used by the QEMU QP agreement test only.
 TEST_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_qp_check.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim
@@ -112,10 +116,12 @@ wcet-measure: host-release
 size: cortex-m7
 	@echo "== ARM size report: $(FIRMWARE_ELF) (production image)"
 	@arm-none-eabi-size -A -d $(FIRMWARE_ELF) | grep -E "^(section|\.isr_vector|\.text|\.data|\.bss|\.stack)"
-	@arm-none-eabi-size $(FIRMWARE_ELF) $(ROAD_FIRMWARE_ELF) $(TEST_FIRMWARE_ELF)
+	@arm-none-eabi-size $(FIRMWARE_ELF) $(ROAD_FIRMWARE_ELF) $(F32_FIRMWARE_ELF) $(TEST_FIRMWARE_ELF)
 	python3 tools/size_report.py --elf $(FIRMWARE_ELF) $(if $(RAM_BUDGET),--budget $(RAM_BUDGET))
 	@echo "== The road image (RoadConfig: 32 + 32 objects; its own figure, no budget): $(ROAD_FIRMWARE_ELF)"
 	python3 tools/size_report.py --elf $(ROAD_FIRMWARE_ELF) --no-budget
+	@echo "== The float image (DefaultConfig, float as the scalar; its own budget): $(F32_FIRMWARE_ELF)"
+	python3 tools/size_report.py --elf $(F32_FIRMWARE_ELF) --budget $(F32_RAM_BUDGET)
 	@echo "== The test image (QP check; never flashed, no budget): $(TEST_FIRMWARE_ELF)"
 	set -o pipefail; python3 tools/size_report.py --elf $(TEST_FIRMWARE_ELF) --no-budget | grep -E "^(RAM by|  QP-check|total)"
 
@@ -125,6 +131,8 @@ stack: cortex-m7
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(FIRMWARE_ELF) --json build/cortex-m7/stack_analysis.json
 	@echo "== Stack analysis, the road image (checked against its .stack): $(ROAD_FIRMWARE_ELF)"
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(ROAD_FIRMWARE_ELF) --quiet
+	@echo "== Stack analysis, the float image (checked against its .stack): $(F32_FIRMWARE_ELF)"
+	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(F32_FIRMWARE_ELF) --quiet
 	@echo "== Stack analysis, the test image (its own STACK_SIZE): $(TEST_FIRMWARE_ELF)"
 	python3 tools/stack_analysis.py --build build/cortex-m7 --elf $(TEST_FIRMWARE_ELF) --quiet
 

@@ -187,7 +187,8 @@ def main():
     if args.no_budget:
         print("size_report: ok (no budget for this image: its figure is reported)")
         return 0
-    print(f"{'budget (port/mps2_an500/ram_budget.ld)':<{width}} {budget:9d} {kib(budget)}")
+    source = "--budget" if args.budget is not None else "port/mps2_an500/ram_budget.ld"
+    print(f"{'budget (' + source + ')':<{width}} {budget:9d} {kib(budget)}")
     print(f"{'goal (issue 12)':<{width}} {GOAL_BYTES:9d} {kib(GOAL_BYTES)}"
           f"   ({total - GOAL_BYTES:+d} bytes from it)")
     if total > budget:

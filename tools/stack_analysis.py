@@ -422,12 +422,23 @@ def other_image(root, d, elf):
     return target != stem and os.path.exists(os.path.join(os.path.dirname(root), target + ".elf"))
 
 
+def other_core(d, elf):
+    """True for the planner library an image does not link: the _f32 images
+    link firmware_core_f32 (float), every other image firmware_core (double).
+    Both define the same functions with different frames."""
+    stem = os.path.splitext(os.path.basename(elf))[0]
+    linked = "firmware_core_f32.dir" if stem.endswith("_f32") else "firmware_core.dir"
+    return d in ("firmware_core.dir", "firmware_core_f32.dir") and d != linked
+
+
 def collect(build, elf):
     ci_files, su_files = [], []
     for root, dirs, files in os.walk(build):
         # Header self-containment checks compile each header alone; they are
-        # not linked into any image. Other images' own objects are not in this one.
-        dirs[:] = [d for d in dirs if "header_check" not in d and not other_image(root, d, elf)]
+        # not linked into any image. Other images' own objects are not in this
+        # one, nor is the other scalar's planner library.
+        dirs[:] = [d for d in dirs if "header_check" not in d and not other_image(root, d, elf)
+                   and not other_core(d, elf)]
         for name in files:
             if name.endswith(".ci"):
                 ci_files.append(os.path.join(root, name))
