@@ -65,6 +65,8 @@ void add_run_options(CLI::App& cmd, RunCommand& run) {
       ->check(CLI::PositiveNumber);
   add_key_option(cmd, run.target);
   add_commonroad_options(cmd, run.commonroad, false);
+  cmd.add_flag("--fail-on-unsafe", run.fail_on_unsafe,
+               "Exit 5 when any scene has a collision or a road departure (for CI; they are results otherwise)");
 }
 
 namespace {
@@ -267,6 +269,12 @@ int run_worlds(const RunCommand& cmd, const std::vector<World>& worlds) {
     fmt::print(stderr, "hil_sim run: the link failed: {} cycles without a plan, {} scenes without any{}\n", link_errors,
                no_plan, link.faults.any() ? "" : " (no faults were injected)");
     return 4;
+  }
+  const int unsafe = rep.value("collisions", 0) + rep.value("road_departures", 0);
+  if (cmd.fail_on_unsafe && unsafe > 0) {
+    fmt::print(stderr, "hil_sim run: {} scene(s) with a collision and {} with a road departure\n",
+               rep.value("collisions", 0), rep.value("road_departures", 0));
+    return 5;
   }
   return 0;
 }

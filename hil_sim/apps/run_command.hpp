@@ -30,6 +30,7 @@ struct RunCommand {
   double duration = -1.0;                // [s] <= 0: each world's own
   std::string link_faults;               // host/qemu: "drop=P,dup=P,flip=P,reorder=P[,seed=N]" ("" = none)
   int link_deadline_ms = 0;              // host/qemu: per cycle, retransmissions included (<= 0: the target's default)
+  bool fail_on_unsafe = false;           // exit 5 when a scene collides or leaves the road
 };
 
 // Adds `run`'s options, bound to `command`, to the subcommand `cmd`.
@@ -40,7 +41,8 @@ void add_run_options(CLI::App& cmd, RunCommand& command);
 // unwritable output), 3 when a scene crashed (the endpoint threw or a world
 // has no usable reference line), 4 when the link failed: a link error on a
 // link without injected faults, or (with --link-faults) a scene that never
-// got a plan at all. The report is written in every case but 2.
+// got a plan at all, 5 with --fail-on-unsafe when a scene collided or left
+// the road. The report is written in every case but 2.
 int run_command(const RunCommand& command);
 
 }  // namespace hil::apps
