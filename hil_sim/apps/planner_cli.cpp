@@ -76,7 +76,8 @@ json decision_json(const itp::planner::BasicPlanner<Cfg>& planner) {
   // The stage keeps each decision's score; its samples come from its coarse QP
   // solved again, cold (evaluate_again: the same optimum within the QP's tolerance).
   using Stage = std::remove_cvref_t<decltype(stage)>;
-  auto evaluator = std::make_unique<typename Stage::CoarseEvaluator>();
+  auto arena = std::make_unique<typename Stage::QpArena>();  // its own: the planner's stays untouched
+  auto evaluator = std::make_unique<typename Stage::CoarseEvaluator>(*arena);
   auto again = std::make_unique<typename Stage::CoarseResult>();
   for (std::size_t i = 0; i < stage.decisions().kept.size(); ++i) {
     const auto& d = stage.decisions().kept[i];

@@ -82,7 +82,8 @@ std::string plot_sl(const itp::planner::BasicPlanner<Cfg>& planner, const itp::s
   // The stage keeps only scores: each usable decision's samples come from its
   // coarse QP solved again (evaluate_again).
   using Stage = std::remove_cvref_t<decltype(stage)>;
-  auto evaluator = std::make_unique<typename Stage::CoarseEvaluator>();
+  auto arena = std::make_unique<typename Stage::QpArena>();  // its own: the planner's stays untouched
+  auto evaluator = std::make_unique<typename Stage::CoarseEvaluator>(*arena);
   auto again = std::make_unique<typename Stage::CoarseResult>();
   for (std::size_t i = 0; i < stage.decisions().kept.size(); ++i) {
     if (!itp::qp::is_usable(stage.coarse(i).status)) continue;

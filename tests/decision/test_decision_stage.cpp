@@ -21,9 +21,12 @@ CoarseInput input(Scalar l_init = 0, Scalar v = 10) {
 }
 
 struct Stage {
-  std::unique_ptr<DecisionStage> stage = std::make_unique<DecisionStage>();
+  std::unique_ptr<DecisionStage::QpArena> arena = std::make_unique<DecisionStage::QpArena>();
+  std::unique_ptr<DecisionStage> stage = std::make_unique<DecisionStage>(*arena);
   DecisionStatus status = DecisionStatus::kInvalidInput;
-  std::unique_ptr<CoarseEvaluator> evaluator = std::make_unique<CoarseEvaluator>();
+  // Its own arena: the re-solves leave the stage's hold on the shared one.
+  std::unique_ptr<DecisionStage::QpArena> again_arena = std::make_unique<DecisionStage::QpArena>();
+  std::unique_ptr<CoarseEvaluator> evaluator = std::make_unique<CoarseEvaluator>(*again_arena);
   std::unique_ptr<CoarseResult> result = std::make_unique<CoarseResult>();
 
   // Kept decision i's coarse samples (the stage keeps only its score).
@@ -148,7 +151,8 @@ TEST_CASE("no zone for the ego gives no decision, never a crash") {
 TEST_CASE("a decision run within a budget: no more coarse QPs, iterations and tree nodes than it allows") {
   const CoarseInput in = input(0, 10);
   const std::vector<SlBox> boxes{box(40, 45, -0.9, 0.9, 1)};
-  const std::unique_ptr<DecisionStage> stage = std::make_unique<DecisionStage>();
+  const std::unique_ptr<DecisionStage::QpArena> arena = std::make_unique<DecisionStage::QpArena>();
+  const std::unique_ptr<DecisionStage> stage = std::make_unique<DecisionStage>(*arena);
   DecisionWork work;
   {
     test_support::HeapGuard guard;

@@ -19,7 +19,8 @@ namespace {
 struct Fixture {
   std::unique_ptr<ConvexSpace> space = std::make_unique<ConvexSpace>();
   std::unique_ptr<DecisionSet> set = std::make_unique<DecisionSet>();
-  std::unique_ptr<PathOptimizer> opt = std::make_unique<PathOptimizer>();
+  std::unique_ptr<PathOptimizer::QpArena> arena = std::make_unique<PathOptimizer::QpArena>();
+  std::unique_ptr<PathOptimizer> opt = std::make_unique<PathOptimizer>(*arena);
   PathResult result;
 
   void run(const RoadSl& r, const std::vector<SlBox>& boxes, const PathInput& in, std::size_t pick = 0) {

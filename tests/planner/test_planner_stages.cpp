@@ -326,8 +326,9 @@ namespace {
 // A three-lane road (-1.75 .. 8.75 m) with one car in the middle lane 40 m
 // ahead: the corridor passes it on the left or on the right.
 struct OneCarAhead {
+  std::unique_ptr<itp::qp::PlannerQpArena<Cfg>> arena = std::make_unique<itp::qp::PlannerQpArena<Cfg>>();
   std::unique_ptr<itp::decision::BasicDecisionStage<Cfg>> stage =
-      std::make_unique<itp::decision::BasicDecisionStage<Cfg>>();
+      std::make_unique<itp::decision::BasicDecisionStage<Cfg>>(*arena);
   std::vector<itp::geometry::SlBox> boxes;
   OneCarAhead(bool dynamic) {
     itp::decision::BasicRoadSl<Cfg> road;

@@ -1,4 +1,5 @@
-// qp::StageQp: a stage hotstarts exactly when its matrix key is unchanged.
+// qp::StageQp: a stage restarts from its last solve exactly when its matrix
+// key is unchanged: hot while it holds the shared workspace, else warm.
 #include <doctest/doctest.h>
 
 #include <memory>
@@ -22,8 +23,13 @@ struct Key {
   bool operator==(const Key&) const = default;
 };
 
+// A second shape in the same arena (the planner's three QPs differ in shape).
+using D2 = QpDims<double, 24, 30, 4, 2>;
+using Arena = QpWorkspaceArena<largest_workspace<D, D2>()>;
+
 struct Fixture {
-  StageQp<D, Key> stage;
+  Arena arena;
+  StageQp<D, Key, Arena> stage{arena};
   QpWorkspace<D> ws;  // for independent cold solves
   QpResult<D> cold;
   QpSettings<double> settings;
@@ -67,6 +73,57 @@ TEST_CASE("StageQp: hot only with the same key; a new key or reset() solves cold
   REQUIRE(solve_cold(f->stage.problem(), f->ws, f->settings, f->cold) == QpStatus::kOptimal);
   CHECK(f->stage.result().iterations == f->cold.iterations);
   for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == doctest::Approx(f->cold.x[j]).epsilon(1e-9));
+}
+
+TEST_CASE("StageQp in a shared arena: after another stage's solve the same key restarts warm, with the warm answer") {
+  auto f = std::make_unique<Fixture>();
+  auto other = std::make_unique<StageQp<D2, Key, Arena>>(f->arena);
+  std::mt19937 rng(11);
+  qp_test::BuildOptions o;
+  o.n = 40;
+  o.m = 80;
+  o.bandwidth = 4;
+  o.max_row_nnz = 6;
+  o.p_row_active = 0.3;
+  const Key a{1.0, 2.0};
+  qp_test::build_random(f->stage.problem(), o, rng);
+  REQUIRE(f->stage.solve(a) == QpStatus::kOptimal);
+  const WorkingSet<D> last = f->stage.result().working_set;
+  REQUIRE(last.size > 0);
+
+  // The other stage solves its own problem in the shared workspace.
+  qp_test::BuildOptions o2;
+  o2.n = 24;
+  o2.m = 30;
+  o2.bandwidth = 2;
+  o2.max_row_nnz = 4;
+  o2.p_row_active = 0.3;
+  qp_test::build_random(other->problem(), o2, rng);
+  REQUIRE(other->solve(Key{3.0, 1.0}) == QpStatus::kOptimal);
+  CHECK(f->stage.same_matrices(a));  // its own problem is untouched
+
+  // Same key, new g: a warm start from the last working set, bit for bit
+  // what solve_warm gives from it in a workspace of its own, and the cold
+  // answer.
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (int j = 0; j < o.n; ++j) f->stage.problem().g[j] += 0.05 * gauss(rng);
+  REQUIRE(f->stage.solve(a) == QpStatus::kOptimal);
+  auto warm = std::make_unique<QpResult<D>>();
+  REQUIRE(solve_warm(f->stage.problem(), f->ws, f->settings, last, *warm) == QpStatus::kOptimal);
+  CHECK(f->stage.result().iterations == warm->iterations);
+  for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == warm->x[j]);
+  REQUIRE(solve_cold(f->stage.problem(), f->ws, f->settings, f->cold) == QpStatus::kOptimal);
+  for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == doctest::Approx(f->cold.x[j]).epsilon(1e-9));
+  CHECK(f->stage.result().iterations < f->cold.iterations);
+
+  // The other stage's held start survived too: its next solve (warm, it lost
+  // the workspace) gives its cold answer.
+  for (int j = 0; j < o2.n; ++j) other->problem().g[j] += 0.05 * gauss(rng);
+  REQUIRE(other->solve(Key{3.0, 1.0}) == QpStatus::kOptimal);
+  auto ws2 = std::make_unique<QpWorkspace<D2>>();
+  auto cold2 = std::make_unique<QpResult<D2>>();
+  REQUIRE(solve_cold(other->problem(), *ws2, QpSettings<double>{}, *cold2) == QpStatus::kOptimal);
+  for (int j = 0; j < o2.n; ++j) CHECK(other->result().x[j] == doctest::Approx(cold2->x[j]).epsilon(1e-9));
 }
 
 TEST_CASE("the planner stages' matrix keys differ when any field differs") {

@@ -32,7 +32,8 @@ SpeedBounds open_road(double limit) {
 }
 
 struct Fixture {
-  std::unique_ptr<SpeedOptimizer> opt = std::make_unique<SpeedOptimizer>();
+  std::unique_ptr<SpeedOptimizer::QpArena> arena = std::make_unique<SpeedOptimizer::QpArena>();
+  std::unique_ptr<SpeedOptimizer> opt = std::make_unique<SpeedOptimizer>(*arena);
   SpeedResult r;
   void run(const SpeedInput& in, const SpeedBounds& b) {
     test_support::HeapGuard guard;

@@ -44,7 +44,8 @@ DynamicTrack mover(int id, double s, double l, double vs, double vl, double len,
 
 struct Run {
   std::unique_ptr<StGraph> graph = std::make_unique<StGraph>();
-  std::unique_ptr<SpeedOptimizer> opt = std::make_unique<SpeedOptimizer>();
+  std::unique_ptr<SpeedOptimizer::QpArena> arena = std::make_unique<SpeedOptimizer::QpArena>();
+  std::unique_ptr<SpeedOptimizer> opt = std::make_unique<SpeedOptimizer>(*arena);
   SpeedBounds bounds;
   SpeedResult speed;
   StParams params;

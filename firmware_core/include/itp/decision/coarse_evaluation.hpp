@@ -78,8 +78,9 @@ struct BasicCoarseResult : CoarseScore {
   std::array<Scalar, Cfg::kCoarseSamples> t_lb{};          // [s]
 };
 
-// Owns the coarse QP's problem, workspace and result (about 50 KB with the
-// default sizes); one instance serves every decision of a cycle.
+// Evaluates decisions with the coarse QP, whose solver workspace is the arena
+// shared with the planner's other QPs; one instance serves every decision of
+// a cycle.
 template <class Cfg>
 class BasicCoarseEvaluator {
  public:
@@ -87,6 +88,10 @@ class BasicCoarseEvaluator {
   using CoarseResult = BasicCoarseResult<Cfg>;
   using ConvexSpace = BasicConvexSpace<Cfg>;
   using Decision = BasicDecision<Cfg>;
+  using QpArena = qp::PlannerQpArena<Cfg>;
+
+  explicit BasicCoarseEvaluator(QpArena& arena)
+      : qp_(arena, qp::QpSettings<Scalar>{.max_iterations = Cfg::kCoarseQpMaxIterations}) {}
 
   // Forget the factorisation: the next solve is cold.
   void reset() { qp_.reset(); }
@@ -105,8 +110,8 @@ class BasicCoarseEvaluator {
 
   using CoarseDims = qp::CoarseQpDims<Scalar, Cfg>;
   // H depends only on the QP weights: while they stay the same, every solve
-  // after the first is a hotstart (new g and bounds, same factorisation).
-  qp::StageQp<CoarseDims, CoarseQpWeights> qp_{qp::QpSettings<Scalar>{.max_iterations = Cfg::kCoarseQpMaxIterations}};
+  // after the first restarts from the last (new g and bounds, same H).
+  qp::StageQp<CoarseDims, CoarseQpWeights, QpArena> qp_;
   const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
 

@@ -55,6 +55,10 @@ class BasicDecisionStage {
   using CoarseInput = BasicCoarseInput<Cfg>;
   using CoarseResult = BasicCoarseResult<Cfg>;
   using CoarseEvaluator = BasicCoarseEvaluator<Cfg>;
+  using QpArena = qp::PlannerQpArena<Cfg>;
+
+  // The coarse QP's workspace is the arena shared with the planner's other QPs.
+  explicit BasicDecisionStage(QpArena& arena) : evaluator_(arena) {}
 
   void reset() { evaluator_.reset(); }
   void set_observer(const qp::BasicPlannerQpObserver<Cfg>* observer) {
@@ -86,7 +90,7 @@ class BasicDecisionStage {
  private:
   ConvexSpace space_{};
   DecisionSet set_{};
-  CoarseEvaluator evaluator_{};
+  CoarseEvaluator evaluator_;
   CoarseResult result_{};  // the decision being evaluated
   std::array<CoarseScore, Cfg::kKeptDecisions> scores_{};
   CoarseInput input_{};    // the last run's, for evaluate_again

@@ -85,6 +85,11 @@ class BasicPathOptimizer {
   using PathResult = BasicPathResult<Cfg>;
   using ConvexSpace = decision::BasicConvexSpace<Cfg>;
   using Decision = decision::BasicDecision<Cfg>;
+  using QpArena = qp::PlannerQpArena<Cfg>;
+
+  // The QP's solver workspace is the arena shared with the planner's other QPs.
+  explicit BasicPathOptimizer(QpArena& arena)
+      : qp_(arena, qp::QpSettings<Scalar>{.max_iterations = Cfg::kPathQpMaxIterations}) {}
 
   // Forget the factorisation: the next solve is cold.
   void reset() { qp_.reset(); }
@@ -103,7 +108,7 @@ class BasicPathOptimizer {
   // A feasible path QP converges in under 30 iterations (hot) here; proving
   // infeasibility takes 110-130. The cap turns most of those into an early
   // iteration-limit failure at half the cost (same outcome: next decision).
-  qp::StageQp<PathDims, PathMatrixKey> qp_{qp::QpSettings<Scalar>{.max_iterations = Cfg::kPathQpMaxIterations}};
+  qp::StageQp<PathDims, PathMatrixKey, QpArena> qp_;
   const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
 

@@ -38,6 +38,10 @@ class BasicCorridorSearch {
   using PathOptimizer = path::BasicPathOptimizer<Cfg>;
   using PathResult = path::BasicPathResult<Cfg>;
   using StSamples = std::array<Scalar, Cfg::kStSamples>;
+  using QpArena = qp::PlannerQpArena<Cfg>;
+
+  // The coarse and path QPs' workspace is the arena shared with the speed QP.
+  explicit BasicCorridorSearch(QpArena& arena) : stage_(arena), path_opt_(arena) {}
 
   // What a search reads besides the guessed motion.
   struct Context {
@@ -82,8 +86,8 @@ class BasicCorridorSearch {
   std::uint64_t corridor_signature(const Decision& d, const path::BasicPathInput<Cfg>& pi) const;
   bool known_infeasible(std::uint64_t corridor) const;
 
-  DecisionStage stage_{};
-  PathOptimizer path_opt_{};
+  DecisionStage stage_;
+  PathOptimizer path_opt_;
   // Corridors whose path QP failed this cycle (skipped when met again).
   StaticVector<std::uint64_t, Cfg::kRememberedInfeasibleCorridors> infeasible_;
   // Work this cycle, against the per-cycle budgets (itp/config.hpp).

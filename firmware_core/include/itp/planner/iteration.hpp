@@ -93,11 +93,15 @@ class BasicIteration {
   void solve_speed(Context& ctx, BasicPlan<Cfg>& out);
   void sample_trajectory(const ReferenceLine& reference, const StartState& start, BasicPlan<Cfg>& out) const;
 
-  Search search_{};
+  // One solver workspace for the coarse, path and speed QPs, which run one
+  // after another (qp/workspace_arena.hpp; declared first: the stages below
+  // hold it).
+  qp::PlannerQpArena<Cfg> qp_arena_{};
+  Search search_{qp_arena_};
   PathResult path_{};
   StGraph st_{};
   SpeedBounds bounds_{};
-  SpeedOptimizer speed_opt_{};
+  SpeedOptimizer speed_opt_{qp_arena_};
   SpeedResult speed_{};
   bool speed_budget_out_ = false;  // a speed budget (itp/config.hpp) ran out this cycle
   WorkLedger qp_work_{};           // the cycle's QP work: coarse, path and speed QPs

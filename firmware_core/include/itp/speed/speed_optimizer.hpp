@@ -78,6 +78,11 @@ class BasicSpeedOptimizer {
   using SpeedInput = BasicSpeedInput<Cfg>;
   using SpeedBounds = BasicSpeedBounds<Cfg>;
   using SpeedResult = BasicSpeedResult<Cfg>;
+  using QpArena = qp::PlannerQpArena<Cfg>;
+
+  // The QP's solver workspace is the arena shared with the planner's other QPs.
+  explicit BasicSpeedOptimizer(QpArena& arena)
+      : qp_(arena, qp::QpSettings<Scalar>{.max_iterations = Cfg::kSpeedQpMaxIterations}) {}
 
   // Forget the factorisation: the next solve is cold.
   void reset() { qp_.reset(); }
@@ -92,7 +97,7 @@ class BasicSpeedOptimizer {
   void build(const SpeedInput& in, const SpeedBounds& bounds, const SpeedWeights& w, Scalar h,
              bool same_matrices);
 
-  qp::StageQp<SpeedDims, SpeedMatrixKey> qp_{qp::QpSettings<Scalar>{.max_iterations = Cfg::kSpeedQpMaxIterations}};
+  qp::StageQp<SpeedDims, SpeedMatrixKey, QpArena> qp_;
   const qp::BasicPlannerQpObserver<Cfg>* observer_ = nullptr;
 };
 
