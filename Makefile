@@ -24,7 +24,7 @@ ROAD_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_road.elf
 # The float image: the production service with float as the planner's scalar
 # (firmware_core_f32); its own RAM budget, checked by `make size`.
 F32_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_f32.elf
-F32_RAM_BUDGET := 167936
+F32_RAM_BUDGET := 155648
 # The test image (QP-check service), used by the QEMU QP agreement test only.
 TEST_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_qp_check.elf
 HIL_SIM := build/host-release/hil_sim/hil_sim

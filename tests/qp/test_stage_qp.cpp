@@ -25,7 +25,7 @@ struct Key {
 
 // A second shape in the same arena (the planner's three QPs differ in shape).
 using D2 = QpDims<double, 24, 30, 4, 2>;
-using Arena = QpWorkspaceArena<largest_workspace<D, D2>()>;
+using Arena = QpArena<largest_storage<D, D2>()>;
 
 struct Fixture {
   Arena arena;
@@ -75,7 +75,7 @@ TEST_CASE("StageQp: hot only with the same key; a new key or reset() solves cold
   for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == doctest::Approx(f->cold.x[j]).epsilon(1e-9));
 }
 
-TEST_CASE("StageQp in a shared arena: after another stage's solve the same key restarts warm, with the warm answer") {
+TEST_CASE("StageQp in a shared arena: after another stage's claim it builds all again and restarts warm") {
   auto f = std::make_unique<Fixture>();
   auto other = std::make_unique<StageQp<D2, Key, Arena>>(f->arena);
   std::mt19937 rng(11);
@@ -86,12 +86,15 @@ TEST_CASE("StageQp in a shared arena: after another stage's solve the same key r
   o.max_row_nnz = 6;
   o.p_row_active = 0.3;
   const Key a{1.0, 2.0};
-  qp_test::build_random(f->stage.problem(), o, rng);
+  auto own = std::make_unique<QpProblem<D>>();  // the stage's problem, as its builder would write it
+  qp_test::build_random(*own, o, rng);
+  f->stage.problem() = *own;
   REQUIRE(f->stage.solve(a) == QpStatus::kOptimal);
   const WorkingSet<D> last = f->stage.result().working_set;
   REQUIRE(last.size > 0);
+  CHECK(f->stage.same_matrices(a));
 
-  // The other stage solves its own problem in the shared workspace.
+  // The other stage builds and solves its own problem in the arena.
   qp_test::BuildOptions o2;
   o2.n = 24;
   o2.m = 30;
@@ -99,31 +102,39 @@ TEST_CASE("StageQp in a shared arena: after another stage's solve the same key r
   o2.max_row_nnz = 4;
   o2.p_row_active = 0.3;
   qp_test::build_random(other->problem(), o2, rng);
+  CHECK_FALSE(f->stage.same_matrices(a));  // the first stage's problem is gone
   REQUIRE(other->solve(Key{3.0, 1.0}) == QpStatus::kOptimal);
-  CHECK(f->stage.same_matrices(a));  // its own problem is untouched
+  CHECK_FALSE(f->stage.same_matrices(a));
 
-  // Same key, new g: a warm start from the last working set, bit for bit
-  // what solve_warm gives from it in a workspace of its own, and the cold
-  // answer.
+  // The first stage claims it back: sizes 0, its builder writes the whole
+  // problem (here with a new g). Same key: a warm start from the last
+  // working set, bit for bit what solve_warm gives from it in a workspace of
+  // its own, and the cold optimum in fewer iterations.
+  CHECK(f->stage.problem().n == 0);
   std::normal_distribution<double> gauss(0.0, 1.0);
-  for (int j = 0; j < o.n; ++j) f->stage.problem().g[j] += 0.05 * gauss(rng);
+  for (int j = 0; j < o.n; ++j) own->g[j] += 0.05 * gauss(rng);
+  f->stage.problem() = *own;
   REQUIRE(f->stage.solve(a) == QpStatus::kOptimal);
   auto warm = std::make_unique<QpResult<D>>();
-  REQUIRE(solve_warm(f->stage.problem(), f->ws, f->settings, last, *warm) == QpStatus::kOptimal);
+  REQUIRE(solve_warm(*own, f->ws, f->settings, last, *warm) == QpStatus::kOptimal);
   CHECK(f->stage.result().iterations == warm->iterations);
   for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == warm->x[j]);
-  REQUIRE(solve_cold(f->stage.problem(), f->ws, f->settings, f->cold) == QpStatus::kOptimal);
+  REQUIRE(solve_cold(*own, f->ws, f->settings, f->cold) == QpStatus::kOptimal);
   for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == doctest::Approx(f->cold.x[j]).epsilon(1e-9));
   CHECK(f->stage.result().iterations < f->cold.iterations);
 
-  // The other stage's held start survived too: its next solve (warm, it lost
-  // the workspace) gives its cold answer.
-  for (int j = 0; j < o2.n; ++j) other->problem().g[j] += 0.05 * gauss(rng);
-  REQUIRE(other->solve(Key{3.0, 1.0}) == QpStatus::kOptimal);
-  auto ws2 = std::make_unique<QpWorkspace<D2>>();
-  auto cold2 = std::make_unique<QpResult<D2>>();
-  REQUIRE(solve_cold(other->problem(), *ws2, QpSettings<double>{}, *cold2) == QpStatus::kOptimal);
-  for (int j = 0; j < o2.n; ++j) CHECK(other->result().x[j] == doctest::Approx(cold2->x[j]).epsilon(1e-9));
+  // Holding it again, the next solve with the same key is a hotstart: bit
+  // for bit that warm solve followed by solve_hot in a workspace of its own.
+  auto ws2 = std::make_unique<QpWorkspace<D>>();
+  auto seq = std::make_unique<QpResult<D>>();
+  REQUIRE(solve_warm(*own, *ws2, f->settings, last, *seq) == QpStatus::kOptimal);
+  for (int j = 0; j < o.n; ++j) own->g[j] += 0.05 * gauss(rng);
+  CHECK(f->stage.same_matrices(a));
+  for (int j = 0; j < o.n; ++j) f->stage.problem().g[j] = own->g[j];
+  REQUIRE(f->stage.solve(a) == QpStatus::kOptimal);
+  REQUIRE(solve_hot(*own, *ws2, f->settings, *seq) == QpStatus::kOptimal);
+  CHECK(f->stage.result().iterations == seq->iterations);
+  for (int j = 0; j < o.n; ++j) CHECK(f->stage.result().x[j] == seq->x[j]);
 }
 
 TEST_CASE("the planner stages' matrix keys differ when any field differs") {

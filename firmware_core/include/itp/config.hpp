@@ -164,7 +164,7 @@ struct DefaultSizes {
 
   // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
   // time in planner.cpp on every target; docs/performance.md, "Memory").
-  static constexpr unsigned long kPlannerBytesBudget = 241664;  // 236 KiB (237 888 B on x86-64, double)
+  static constexpr unsigned long kPlannerBytesBudget = 221184;  // 216 KiB (216 464 B on x86-64, double)
 };
 
 template <class Sizes>

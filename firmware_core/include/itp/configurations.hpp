@@ -28,7 +28,7 @@ struct CompactSizes : DefaultSizes {
   static constexpr int kSpeedBlocks = 10;
   static constexpr int kMaxPlannerIterations = 4;
   static constexpr int kMaxPathSolvesPerCycle = 8;
-  static constexpr unsigned long kPlannerBytesBudget = 118784;  // 116 KiB (117 968 B)
+  static constexpr unsigned long kPlannerBytesBudget = 106496;  // 104 KiB (102 960 B)
 };
 using CompactConfig = Configuration<CompactSizes>;
 
@@ -41,7 +41,7 @@ struct RoadSizes : DefaultSizes {
   static constexpr int kMaxStaticObstacles = 32;
   static constexpr int kMaxDynamicObstacles = 32;
   static constexpr int kMaxPredictionSamples = 40;
-  static constexpr unsigned long kPlannerBytesBudget = 450560;  // 440 KiB (443 024 B)
+  static constexpr unsigned long kPlannerBytesBudget = 430080;  // 420 KiB (421 584 B)
 };
 using RoadConfig = Configuration<RoadSizes>;
 

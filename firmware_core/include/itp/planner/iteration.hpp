@@ -93,8 +93,8 @@ class BasicIteration {
   void solve_speed(Context& ctx, BasicPlan<Cfg>& out);
   void sample_trajectory(const ReferenceLine& reference, const StartState& start, BasicPlan<Cfg>& out) const;
 
-  // One solver workspace for the coarse, path and speed QPs, which run one
-  // after another (qp/workspace_arena.hpp; declared first: the stages below
+  // One problem + solver workspace for the coarse, path and speed QPs, which run one
+  // after another (qp/qp_arena.hpp; declared first: the stages below
   // hold it).
   qp::PlannerQpArena<Cfg> qp_arena_{};
   Search search_{qp_arena_};

@@ -1,20 +1,20 @@
 #pragma once
-// One QP of a planner stage (coarse, path, speed): the problem, the result,
-// its settings, and whether the next solve may restart from the last one. A
-// stage's H and A depend only on a few values (its weights, the block length,
-// the bumper reaches): its matrix key. The stage rewrites only g and the
-// bounds when the key equals the last build's. Keys compare with a defaulted
-// operator==, so a field added to a key (a new weight) takes part at once: a
-// restart can never run on a stale H.
+// One QP of a planner stage (coarse, path, speed): its result, its settings,
+// and whether the next solve may restart from the last one. A stage's H and
+// A depend only on a few values (its weights, the block length, the bumper
+// reaches): its matrix key. Keys compare with a defaulted operator==, so a
+// field added to a key (a new weight) takes part at once: a restart can never
+// run on a stale H.
 //
-// The solver's workspace lives in an arena shared with the other stages
-// (workspace_arena.hpp). With the same matrices, the next solve hotstarts
-// from the held factor while no other stage has claimed the arena since;
-// otherwise it restarts warm: H factored again and the last working set
-// loaded (the same start as a hotstart, so the same iterations; the loading
-// costs one row append per entry, docs/memory.md "QP arena").
+// The problem and the solver's workspace live in an arena shared with the
+// other stages (qp_arena.hpp). While a stage holds it, a build for the last
+// key writes only g and the bounds, and the solve hotstarts from the held
+// factor. After another stage's claim the build writes the whole problem and
+// the solve restarts warm: H factored again and the last working set loaded,
+// the same start as a hotstart, so the same iterations (docs/memory.md, "QP
+// arena").
+#include "itp/qp/qp_arena.hpp"
 #include "itp/qp/solver.hpp"
-#include "itp/qp/workspace_arena.hpp"
 
 namespace itp::qp {
 
@@ -27,15 +27,19 @@ class StageQp {
   StageQp(const StageQp&) = delete;
   StageQp& operator=(const StageQp&) = delete;
 
-  // H and A of a problem built for `key` equal the last build's: the stage
-  // may keep them and write g and the bounds only.
-  bool same_matrices(const Key& key) const { return built_ && key == key_; }
+  // The problem in the arena holds H and A for `key`: a build may keep them
+  // and write g and the bounds only.
+  bool same_matrices(const Key& key) const { return solved_ && key == key_ && arena_.held_by(this); }
 
-  QpProblem<Dims>& problem() { return problem_; }
-  const QpProblem<Dims>& problem() const { return problem_; }
+  // The problem to write (claims the arena). After another stage's claim it
+  // holds sizes 0: same_matrices() was false, the caller builds all of it.
+  QpProblem<Dims>& problem() { return claim().problem; }
+  // The last solve's problem; valid while no other stage has claimed the
+  // arena since (dumps read it right after the solve).
+  const QpProblem<Dims>& problem() const { return arena_.template held<Dims>(this).problem; }
   const QpResult<Dims>& result() const { return result_; }
 
-  // Solves the problem built for `key`: with the same matrices, hot from the
+  // Solves the problem built for `key`: for the last solve's key hot from the
   // held factor or warm from the last working set (see above), else cold.
   // After a solve that ended infeasible, at the iteration cap or in numerical
   // trouble, with `keep_factor_after_failure` the next solve restarts from its
@@ -47,24 +51,24 @@ class StageQp {
     if (max_iterations > 0 && (settings.max_iterations <= 0 || max_iterations < settings.max_iterations)) {
       settings.max_iterations = max_iterations;
     }
-    const bool restart = same_matrices(key) && have_start_;
-    bool fresh = false;
-    QpWorkspace<Dims>& ws = arena_.template claim<Dims>(this, fresh);
+    const bool restart = solved_ && key == key_ && have_start_;
+    QpStorage<Dims>& qp = claim();  // already held since the build
     QpStatus st = QpStatus::kNotFactored;
-    if (restart && !fresh) {
-      st = solve_hot(problem_, ws, settings, result_);
+    if (restart && factor_held_) {
+      st = solve_hot(qp.problem, qp.workspace, settings, result_);
     } else if (restart) {
       const WorkingSet<Dims> start = result_.working_set;  // the solve overwrites result_
-      st = solve_warm(problem_, ws, settings, start, result_);
+      st = solve_warm(qp.problem, qp.workspace, settings, start, result_);
     }
     if (st == QpStatus::kNotFactored) {
-      st = solve_cold(problem_, ws, settings, result_);
+      st = solve_cold(qp.problem, qp.workspace, settings, result_);
     }
     have_start_ = is_usable(st) ||
                   (keep_factor_after_failure && (st == QpStatus::kInfeasible || st == QpStatus::kIterationLimit ||
                                                  st == QpStatus::kNumericalTrouble));
+    factor_held_ = true;
     key_ = key;
-    built_ = true;
+    solved_ = true;
     return st;
   }
 
@@ -72,13 +76,20 @@ class StageQp {
   void reset() { have_start_ = false; }
 
  private:
+  QpStorage<Dims>& claim() {
+    bool fresh = false;
+    QpStorage<Dims>& qp = arena_.template claim<Dims>(this, fresh);
+    if (fresh) factor_held_ = false;  // the workspace holds another QP's factor
+    return qp;
+  }
+
   Arena& arena_;
-  QpProblem<Dims> problem_{};
   QpResult<Dims> result_{};
   QpSettings<Scalar> settings_{};
-  Key key_{};
-  bool built_ = false;
-  bool have_start_ = false;  // the held factor (hot) or result_.working_set (warm) is a valid start
+  Key key_{};                 // of the last solve
+  bool solved_ = false;
+  bool have_start_ = false;   // result_.working_set (and, if held, the factor) is a valid start
+  bool factor_held_ = false;  // the arena's workspace holds this stage's last factor
 };
 
 }  // namespace itp::qp

@@ -1,0 +1,80 @@
+#pragma once
+// One storage for QPs that never run at the same time. The planner's coarse,
+// path and speed QPs run one after another, so one block the size of the
+// largest problem + solver workspace (the path QP's) serves all three
+// (docs/memory.md, "QP arena"). Each stage keeps its result (with its last
+// working set) and its matrix key. A stage claims the block when it builds
+// its problem; a claim by another stage ends the previous holder's hold: that
+// stage builds its whole problem again (H and A too) and restarts warm from
+// its last working set (StageQp). Plain static storage: no heap.
+#include <cstddef>
+#include <new>
+
+#include "itp/core/assert.hpp"
+#include "itp/qp/dimensions.hpp"
+#include "itp/qp/problem.hpp"
+#include "itp/qp/workspace.hpp"
+
+namespace itp::qp {
+
+// What one QP needs from building its problem to the end of its solve.
+template <class D>
+struct QpStorage {
+  QpProblem<D> problem;
+  QpWorkspace<D> workspace;
+};
+
+template <std::size_t Bytes>
+class QpArena {
+ public:
+  static constexpr std::size_t kBytes = Bytes;
+  static constexpr std::size_t kAlign = alignof(std::max_align_t);
+
+  QpArena() = default;
+  QpArena(const QpArena&) = delete;
+  QpArena& operator=(const QpArena&) = delete;
+
+  // The block as storage of shape D for `holder`. `fresh`: the holder did not
+  // hold it; it then holds another QP's bytes, sizes 0 and no factor.
+  template <class D>
+  QpStorage<D>& claim(const void* holder, bool& fresh) {
+    static_assert(sizeof(QpStorage<D>) <= Bytes, "the QP arena is smaller than this QP's storage");
+    static_assert(alignof(QpStorage<D>) <= kAlign, "the QP arena is less aligned than this QP's storage");
+    fresh = holder_ != holder;
+    if (fresh) {
+      // Default-initialisation: the scalar members' initialisers run (sizes
+      // 0, no factor), the arrays keep the bytes they have; a build resets
+      // the problem and a solve writes every workspace entry before it reads
+      // it. So a claim costs O(1), not O(Bytes).
+      object_ = ::new (static_cast<void*>(bytes_)) QpStorage<D>;
+      holder_ = holder;
+    }
+    return *static_cast<QpStorage<D>*>(object_);
+  }
+  bool held_by(const void* holder) const { return holder_ == holder; }
+  // The storage `holder` claimed last (a precondition: nobody claimed it since).
+  template <class D>
+  const QpStorage<D>& held(const void* holder) const {
+    ITP_EXPECTS(holder_ == holder);
+    return *static_cast<const QpStorage<D>*>(object_);
+  }
+
+ private:
+  alignas(kAlign) unsigned char bytes_[Bytes];
+  void* object_ = nullptr;        // the storage placed in bytes_ by the last claim
+  const void* holder_ = nullptr;  // who claimed it
+};
+
+template <class... Ds>
+constexpr std::size_t largest_storage() {
+  std::size_t bytes = 0;
+  ((bytes = sizeof(QpStorage<Ds>) > bytes ? sizeof(QpStorage<Ds>) : bytes), ...);
+  return bytes;
+}
+
+// The planner's arena: the largest of its coarse, path and speed QPs.
+template <class Cfg>
+using PlannerQpArena = QpArena<largest_storage<PathQpDims<Scalar, Cfg>, SpeedQpDims<Scalar, Cfg>,
+                                                CoarseQpDims<Scalar, Cfg>>()>;
+
+}  // namespace itp::qp
