@@ -21,8 +21,9 @@ RAM_BUDGET ?=
 # The road image: the production service for RoadConfig (32 + 32 objects; no
 # RAM budget, its figure is reported).
 ROAD_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_road.elf
-# The float image: the production service with float as the planner's scalar
-# (firmware_core_f32); its own RAM budget, checked by `make size`.
+# The float low-RAM image: the production service in LowRamConfig (the QPs share
+# one storage) with float as the planner's scalar (firmware_core_f32); its own
+# RAM budget, checked by `make size`.
 F32_FIRMWARE_ELF := build/cortex-m7/port/itp_firmware_mps2_an500_f32.elf
 F32_RAM_BUDGET := 155648
 # The test image (QP-check service), used by the QEMU QP agreement test only.
@@ -120,7 +121,7 @@ size: cortex-m7
 	python3 tools/size_report.py --elf $(FIRMWARE_ELF) $(if $(RAM_BUDGET),--budget $(RAM_BUDGET))
 	@echo "== The road image (RoadConfig: 32 + 32 objects; its own figure, no budget): $(ROAD_FIRMWARE_ELF)"
 	python3 tools/size_report.py --elf $(ROAD_FIRMWARE_ELF) --no-budget
-	@echo "== The float image (DefaultConfig, float as the scalar; its own budget): $(F32_FIRMWARE_ELF)"
+	@echo "== The float low-RAM image (LowRamConfig, float as the scalar; its own budget): $(F32_FIRMWARE_ELF)"
 	python3 tools/size_report.py --elf $(F32_FIRMWARE_ELF) --budget $(F32_RAM_BUDGET)
 	@echo "== The test image (QP check; never flashed, no budget): $(TEST_FIRMWARE_ELF)"
 	set -o pipefail; python3 tools/size_report.py --elf $(TEST_FIRMWARE_ELF) --no-budget | grep -E "^(RAM by|  QP-check|total)"

@@ -33,7 +33,7 @@ SERVICE_SYMBOL = "g_service_storage"
 LABELS = {
     "service": "firmware service (one static object)",
     "service.planner": "planner",
-    "service.planner.qp_arena": "QP arena (problem + solver workspace, the QPs in turn)",
+    "service.planner.qp_arena": "QP storage: problems + solver workspaces (one shared, or one per QP)",
     "service.planner.decision_stage": "decision stage",
     "service.planner.decision_stage.coarse_qp": "coarse QP (result, start)",
     "service.planner.path_qp": "path QP (result, start)",

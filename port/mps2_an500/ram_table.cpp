@@ -50,7 +50,7 @@ static_assert(sizeof(Service) <= ITP_RAM_BUDGET_BYTES,
 extern "C" __attribute__((section(".itp_ram_table"), used)) const RamEntry itp_ram_table[] = {
     {"service", size(sizeof(Service))},
     {"service.planner", size(sizeof(Planner))},
-    {"service.planner.qp_arena", size(sizeof(itp::qp::PlannerQpArena<Cfg>))},
+    {"service.planner.qp_arena", size(sizeof(itp::qp::PlannerQpArenas<Cfg>))},
     {"service.planner.decision_stage", size(sizeof(Planner::DecisionStage))},
     {"service.planner.decision_stage.coarse_qp", size(sizeof(itp::decision::BasicCoarseEvaluator<Cfg>))},
     {"service.planner.path_qp", size(sizeof(Planner::PathOptimizer))},

@@ -326,7 +326,8 @@ namespace {
 // A three-lane road (-1.75 .. 8.75 m) with one car in the middle lane 40 m
 // ahead: the corridor passes it on the left or on the right.
 struct OneCarAhead {
-  std::unique_ptr<itp::qp::PlannerQpArena<Cfg>> arena = std::make_unique<itp::qp::PlannerQpArena<Cfg>>();
+  using Arena = typename itp::decision::BasicDecisionStage<Cfg>::QpArena;
+  std::unique_ptr<Arena> arena = std::make_unique<Arena>();
   std::unique_ptr<itp::decision::BasicDecisionStage<Cfg>> stage =
       std::make_unique<itp::decision::BasicDecisionStage<Cfg>>(*arena);
   std::vector<itp::geometry::SlBox> boxes;

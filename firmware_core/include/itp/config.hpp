@@ -162,9 +162,18 @@ struct DefaultSizes {
   static constexpr int kSpeedSolveSetupWork = 561;    // per speed QP, with its ST graph build
   static constexpr int kSpeedIterationWork = 39;      // per speed-QP iteration
 
+  // QP storage (qp/qp_arena.hpp, docs/memory.md "QP arena"): false, each of
+  // the coarse, path and speed QPs keeps its own problem and workspace and
+  // every repeat of a stage's QP hotstarts; true, the three share one (the
+  // path QP's size: about 80 KB less in double), and a stage that lost it to
+  // another rebuilds its problem and restarts warm from its last working set.
+  // That costs time: +25 % instructions per cycle on the default suite, the
+  // measured maximum on the stress suite 13.9 -> 16.1 M (docs/memory.md).
+  static constexpr bool kShareQpStorage = false;
+
   // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
   // time in planner.cpp on every target; docs/performance.md, "Memory").
-  static constexpr unsigned long kPlannerBytesBudget = 221184;  // 216 KiB (216 464 B on x86-64, double)
+  static constexpr unsigned long kPlannerBytesBudget = 303104;  // 296 KiB (298 720 B on x86-64, double)
 };
 
 template <class Sizes>

@@ -28,9 +28,19 @@ struct CompactSizes : DefaultSizes {
   static constexpr int kSpeedBlocks = 10;
   static constexpr int kMaxPlannerIterations = 4;
   static constexpr int kMaxPathSolvesPerCycle = 8;
+  static constexpr bool kShareQpStorage = true;  // its QPs share one storage
   static constexpr unsigned long kPlannerBytesBudget = 106496;  // 104 KiB (102 960 B)
 };
 using CompactConfig = Configuration<CompactSizes>;
+
+// The default sizes for an ECU where RAM is tighter than time: the coarse,
+// path and speed QPs share one problem + workspace (kShareQpStorage). The
+// float image plans with it (docs/memory.md, "The float image").
+struct LowRamSizes : DefaultSizes {
+  static constexpr bool kShareQpStorage = true;
+  static constexpr unsigned long kPlannerBytesBudget = 221184;  // 216 KiB (216 464 B in double)
+};
+using LowRamConfig = Configuration<LowRamSizes>;
 
 // A road ECU fed by sensor fusion: its object list, up to 32 static and 32
 // moving objects, arrives whole. The decision stage keeps the default's
@@ -41,7 +51,7 @@ struct RoadSizes : DefaultSizes {
   static constexpr int kMaxStaticObstacles = 32;
   static constexpr int kMaxDynamicObstacles = 32;
   static constexpr int kMaxPredictionSamples = 40;
-  static constexpr unsigned long kPlannerBytesBudget = 430080;  // 420 KiB (421 584 B)
+  static constexpr unsigned long kPlannerBytesBudget = 507904;  // 496 KiB (503 840 B)
 };
 using RoadConfig = Configuration<RoadSizes>;
 
@@ -51,4 +61,5 @@ using RoadConfig = Configuration<RoadSizes>;
 #define ITP_FOR_EACH_CONFIG(X) \
   X(::itp::DefaultConfig)      \
   X(::itp::CompactConfig)      \
+  X(::itp::LowRamConfig)       \
   X(::itp::RoadConfig)

@@ -88,7 +88,7 @@ class BasicCoarseEvaluator {
   using CoarseResult = BasicCoarseResult<Cfg>;
   using ConvexSpace = BasicConvexSpace<Cfg>;
   using Decision = BasicDecision<Cfg>;
-  using QpArena = qp::PlannerQpArena<Cfg>;
+  using QpArena = typename qp::PlannerQpArenas<Cfg>::CoarseArena;
 
   explicit BasicCoarseEvaluator(QpArena& arena)
       : qp_(arena, qp::QpSettings<Scalar>{.max_iterations = Cfg::kCoarseQpMaxIterations}) {}

@@ -55,9 +55,9 @@ class BasicDecisionStage {
   using CoarseInput = BasicCoarseInput<Cfg>;
   using CoarseResult = BasicCoarseResult<Cfg>;
   using CoarseEvaluator = BasicCoarseEvaluator<Cfg>;
-  using QpArena = qp::PlannerQpArena<Cfg>;
+  using QpArena = typename qp::PlannerQpArenas<Cfg>::CoarseArena;
 
-  // The coarse QP's workspace is the arena shared with the planner's other QPs.
+  // The coarse QP's storage (shared with the planner's other QPs or its own).
   explicit BasicDecisionStage(QpArena& arena) : evaluator_(arena) {}
 
   void reset() { evaluator_.reset(); }

@@ -85,9 +85,9 @@ class BasicPathOptimizer {
   using PathResult = BasicPathResult<Cfg>;
   using ConvexSpace = decision::BasicConvexSpace<Cfg>;
   using Decision = decision::BasicDecision<Cfg>;
-  using QpArena = qp::PlannerQpArena<Cfg>;
+  using QpArena = typename qp::PlannerQpArenas<Cfg>::PathArena;
 
-  // The QP's solver workspace is the arena shared with the planner's other QPs.
+  // The QP's storage (shared with the planner's other QPs or its own).
   explicit BasicPathOptimizer(QpArena& arena)
       : qp_(arena, qp::QpSettings<Scalar>{.max_iterations = Cfg::kPathQpMaxIterations}) {}
 

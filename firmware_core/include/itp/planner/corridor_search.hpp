@@ -38,10 +38,10 @@ class BasicCorridorSearch {
   using PathOptimizer = path::BasicPathOptimizer<Cfg>;
   using PathResult = path::BasicPathResult<Cfg>;
   using StSamples = std::array<Scalar, Cfg::kStSamples>;
-  using QpArena = qp::PlannerQpArena<Cfg>;
+  using QpArenas = qp::PlannerQpArenas<Cfg>;
 
-  // The coarse and path QPs' workspace is the arena shared with the speed QP.
-  explicit BasicCorridorSearch(QpArena& arena) : stage_(arena), path_opt_(arena) {}
+  // The coarse and path QPs' storage (the planner's, docs/memory.md "QP arena").
+  explicit BasicCorridorSearch(QpArenas& arenas) : stage_(arenas.coarse()), path_opt_(arenas.path()) {}
 
   // What a search reads besides the guessed motion.
   struct Context {

@@ -93,15 +93,15 @@ class BasicIteration {
   void solve_speed(Context& ctx, BasicPlan<Cfg>& out);
   void sample_trajectory(const ReferenceLine& reference, const StartState& start, BasicPlan<Cfg>& out) const;
 
-  // One problem + solver workspace for the coarse, path and speed QPs, which run one
-  // after another (qp/qp_arena.hpp; declared first: the stages below
-  // hold it).
-  qp::PlannerQpArena<Cfg> qp_arena_{};
-  Search search_{qp_arena_};
+  // The coarse, path and speed QPs' problems and workspaces: one shared
+  // storage or one each, as Cfg::kShareQpStorage says (qp/qp_arena.hpp;
+  // declared first: the stages below hold them).
+  qp::PlannerQpArenas<Cfg> qp_arenas_{};
+  Search search_{qp_arenas_};
   PathResult path_{};
   StGraph st_{};
   SpeedBounds bounds_{};
-  SpeedOptimizer speed_opt_{qp_arena_};
+  SpeedOptimizer speed_opt_{qp_arenas_.speed()};
   SpeedResult speed_{};
   bool speed_budget_out_ = false;  // a speed budget (itp/config.hpp) ran out this cycle
   WorkLedger qp_work_{};           // the cycle's QP work: coarse, path and speed QPs

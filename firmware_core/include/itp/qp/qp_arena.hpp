@@ -1,5 +1,6 @@
 #pragma once
-// One storage for QPs that never run at the same time. The planner's coarse,
+// One storage for QPs that never run at the same time (or, with
+// Cfg::kShareQpStorage false, for one QP alone: PlannerQpArenas below). The planner's coarse,
 // path and speed QPs run one after another, so one block the size of the
 // largest problem + solver workspace (the path QP's) serves all three
 // (docs/memory.md, "QP arena"). Each stage keeps its result (with its last
@@ -72,9 +73,36 @@ constexpr std::size_t largest_storage() {
   return bytes;
 }
 
-// The planner's arena: the largest of its coarse, path and speed QPs.
+// The planner's QP storage, as its configuration chooses (Cfg::kShareQpStorage):
+// one arena the size of the largest of the coarse, path and speed QPs, which
+// they claim in turn, or one arena per QP, which its stage always holds.
+template <class Cfg, bool Shared = Cfg::kShareQpStorage>
+struct PlannerQpArenas;
+
 template <class Cfg>
-using PlannerQpArena = QpArena<largest_storage<PathQpDims<Scalar, Cfg>, SpeedQpDims<Scalar, Cfg>,
-                                                CoarseQpDims<Scalar, Cfg>>()>;
+struct PlannerQpArenas<Cfg, true> {
+  using Arena = QpArena<largest_storage<PathQpDims<Scalar, Cfg>, SpeedQpDims<Scalar, Cfg>,
+                                         CoarseQpDims<Scalar, Cfg>>()>;
+  using CoarseArena = Arena;
+  using PathArena = Arena;
+  using SpeedArena = Arena;
+  CoarseArena& coarse() { return shared; }
+  PathArena& path() { return shared; }
+  SpeedArena& speed() { return shared; }
+  Arena shared{};
+};
+
+template <class Cfg>
+struct PlannerQpArenas<Cfg, false> {
+  using CoarseArena = QpArena<largest_storage<CoarseQpDims<Scalar, Cfg>>()>;
+  using PathArena = QpArena<largest_storage<PathQpDims<Scalar, Cfg>>()>;
+  using SpeedArena = QpArena<largest_storage<SpeedQpDims<Scalar, Cfg>>()>;
+  CoarseArena& coarse() { return coarse_qp; }
+  PathArena& path() { return path_qp; }
+  SpeedArena& speed() { return speed_qp; }
+  CoarseArena coarse_qp{};
+  PathArena path_qp{};
+  SpeedArena speed_qp{};
+};
 
 }  // namespace itp::qp

@@ -78,9 +78,9 @@ class BasicSpeedOptimizer {
   using SpeedInput = BasicSpeedInput<Cfg>;
   using SpeedBounds = BasicSpeedBounds<Cfg>;
   using SpeedResult = BasicSpeedResult<Cfg>;
-  using QpArena = qp::PlannerQpArena<Cfg>;
+  using QpArena = typename qp::PlannerQpArenas<Cfg>::SpeedArena;
 
-  // The QP's solver workspace is the arena shared with the planner's other QPs.
+  // The QP's storage (shared with the planner's other QPs or its own).
   explicit BasicSpeedOptimizer(QpArena& arena)
       : qp_(arena, qp::QpSettings<Scalar>{.max_iterations = Cfg::kSpeedQpMaxIterations}) {}
 
