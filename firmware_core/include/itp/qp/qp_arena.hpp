@@ -1,13 +1,13 @@
 #pragma once
-// One storage for QPs that never run at the same time (or, with
-// Cfg::kShareQpStorage false, for one QP alone: PlannerQpArenas below). The planner's coarse,
-// path and speed QPs run one after another, so one block the size of the
-// largest problem + solver workspace (the path QP's) serves all three
-// (docs/memory.md, "QP arena"). Each stage keeps its result (with its last
-// working set) and its matrix key. A stage claims the block when it builds
-// its problem; a claim by another stage ends the previous holder's hold: that
-// stage builds its whole problem again (H and A too) and restarts warm from
-// its last working set (StageQp). Plain static storage: no heap.
+// Storage for a QP's problem and solver workspace, which stages claim. The
+// planner's coarse, path and speed QPs run one after another, so with
+// Cfg::kShareQpStorage one block the size of the largest (the path QP's)
+// serves all three; otherwise each QP has a block of its own
+// (PlannerQpArenas below; docs/memory.md, "QP arena"). Each stage keeps its
+// result (with its last working set) and its matrix key. A claim by another
+// stage ends the previous holder's hold: that stage builds its whole problem
+// again (H and A too) and restarts warm from its last working set (StageQp).
+// Plain static storage: no heap.
 #include <cstddef>
 #include <new>
 

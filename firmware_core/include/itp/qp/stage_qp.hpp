@@ -6,8 +6,8 @@
 // field added to a key (a new weight) takes part at once: a restart can never
 // run on a stale H.
 //
-// The problem and the solver's workspace live in an arena shared with the
-// other stages (qp_arena.hpp). While a stage holds it, a build for the last
+// The problem and the solver's workspace live in an arena (qp_arena.hpp): the
+// stage's own, or one shared with the other stages. While a stage holds it, a build for the last
 // key writes only g and the bounds, and the solve hotstarts from the held
 // factor. After another stage's claim the build writes the whole problem and
 // the solve restarts warm: H factored again and the last working set loaded,
