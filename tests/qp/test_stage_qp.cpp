@@ -35,17 +35,23 @@ struct Fixture {
   QpSettings<double> settings;
 };
 
-}  // namespace
-
-TEST_CASE("StageQp: hot only with the same key; a new key or reset() solves cold, with the cold answer") {
-  auto f = std::make_unique<Fixture>();
-  std::mt19937 rng(7);
+// The stage's problem shape in both tests: n 40, m 80, half-bandwidth 4.
+qp_test::BuildOptions stage_options() {
   qp_test::BuildOptions o;
   o.n = 40;
   o.m = 80;
   o.bandwidth = 4;
   o.max_row_nnz = 6;
   o.p_row_active = 0.3;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("StageQp: hot only with the same key; a new key or reset() solves cold, with the cold answer") {
+  auto f = std::make_unique<Fixture>();
+  std::mt19937 rng(7);
+  const qp_test::BuildOptions o = stage_options();
   qp_test::build_random(f->stage.problem(), o, rng);
   const Key a{1.0, 2.0};
   CHECK_FALSE(f->stage.same_matrices(a));  // nothing built yet
@@ -79,12 +85,7 @@ TEST_CASE("StageQp in a shared arena: after another stage's claim it builds all 
   auto f = std::make_unique<Fixture>();
   auto other = std::make_unique<StageQp<D2, Key, Arena>>(f->arena);
   std::mt19937 rng(11);
-  qp_test::BuildOptions o;
-  o.n = 40;
-  o.m = 80;
-  o.bandwidth = 4;
-  o.max_row_nnz = 6;
-  o.p_row_active = 0.3;
+  const qp_test::BuildOptions o = stage_options();
   const Key a{1.0, 2.0};
   auto own = std::make_unique<QpProblem<D>>();  // the stage's problem, as its builder would write it
   qp_test::build_random(*own, o, rng);
