@@ -23,7 +23,7 @@ struct QpDims {
   static constexpr int kBandwidth = Bw;
   // A's column indices and per-row counts: one byte while every column fits
   // (N <= 255: all of the planner's shapes and qp_solve's), else two. The
-  // path QP's 400 x 9 indices take 3.6 KB less RAM.
+  // path QP's 400 x 6 indices take 2.4 KB less RAM.
   using ColumnIndex = std::conditional_t<(N <= 255), std::uint8_t, std::int16_t>;
   // Constraint index space used internally: bounds 0..N-1, rows N..N+M-1.
   static constexpr int kMaxConstraints = N + M;
@@ -59,9 +59,10 @@ struct QpDims {
 // firmware its own, host tools and tests itp::DefaultConfig), so that a
 // shape cannot silently fall back to another build's capacities.
 // Path QP: (l, l', l'') per knot; quintic Hermite blocks couple knot i with
-// i+1, i.e. 6 consecutive variables -> half-bandwidth 5; every row touches
-// the 6 variables of its block (plus the 3 of a neighbouring knot at most).
-inline constexpr int kPathQpRowNonzeros = 9;
+// i+1, i.e. 6 consecutive variables -> half-bandwidth 5; every row (a
+// sample's corridor, l' or l'' bound) touches exactly the 6 variables of
+// its block (path/path_optimizer.cpp).
+inline constexpr int kPathQpRowNonzeros = 6;
 inline constexpr int kPathQpBandwidth = 5;
 // Speed QP: (s, s', s'') per knot, rows of one block.
 inline constexpr int kSpeedQpRowNonzeros = 6;
