@@ -30,7 +30,7 @@ struct RamEntry {
 
 constexpr std::uint32_t size(unsigned long bytes) { return static_cast<std::uint32_t>(bytes); }
 
-constexpr std::uint32_t kInboxBytes = size(sizeof(itp::link::Inbox<Service::kMaxRequestBytes>));
+constexpr std::uint32_t kInboxBytes = size(sizeof(Service::RequestInbox));
 constexpr std::uint32_t kOutboxBytes = size(sizeof(itp::link::Outbox<Service::kMaxReplyBytes>));
 constexpr std::uint32_t kControlBytes =
     size(sizeof(itp::link::Outbox<itp::link::kSegmentReportBytes>) + itp::link::kMaxWireFrameBytes);
@@ -59,11 +59,11 @@ extern "C" __attribute__((section(".itp_ram_table"), used)) const RamEntry itp_r
     {"service.planner.speed_bounds", size(sizeof(Planner::SpeedBounds))},
     {"service.planner.path_speed_results", size(sizeof(Planner::PathResult) + sizeof(Planner::SpeedResult))},
     {"service.planner.reference_line",
-     size(sizeof(Planner::ReferenceLine) + sizeof(itp::geometry::BasicSmoothingSplineWorkspace<Cfg>))},
+     size(sizeof(Planner::ReferenceLine) +
+          (Cfg::kShareQpStorage ? 0 : sizeof(itp::geometry::BasicSmoothingSplineWorkspace<Cfg>)))},
     {"service.planner.sl_scene", size(sizeof(itp::planner::BasicSlScene<Cfg>))},
     {"service.planner.previous_plans", size(2 * sizeof(Planner::Plan))},
     {"service.scene", size(sizeof(itp::scene::BasicScene<Cfg>))},
-    {"service.plan", size(sizeof(itp::planner::BasicPlan<Cfg>))},
     {"service.link", kDecoderBytes + kInboxBytes + kOutboxBytes + kControlBytes},
     {"service.link.inbox", kInboxBytes},
     {"service.link.outbox", kOutboxBytes},

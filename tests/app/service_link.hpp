@@ -31,8 +31,9 @@ inline std::array<std::uint8_t, itp::link::kEntropyBytes> test_entropy(std::uint
   return e;
 }
 
-inline std::unique_ptr<Service> provisioned_service(std::uint8_t key_seed = 1) {
-  auto svc = std::make_unique<Service>();
+template <class Svc = Service>
+std::unique_ptr<Svc> provisioned_service(std::uint8_t key_seed = 1) {
+  auto svc = std::make_unique<Svc>();
   const auto key = test_key(key_seed);
   const auto entropy = test_entropy(99);
   svc->provision(key, entropy);
@@ -40,13 +41,14 @@ inline std::unique_ptr<Service> provisioned_service(std::uint8_t key_seed = 1) {
   return svc;
 }
 
-class ServiceTransport final : public hil::ByteTransport {
+template <class Svc>
+class BasicServiceTransport final : public hil::ByteTransport {
  public:
   enum class Direction { kToFirmware, kToHost };
   // Returns true to lose this (whole, encoded) frame.
   using Filter = std::function<bool(Direction, const itp::link::FrameView&)>;
 
-  explicit ServiceTransport(Service& service) : service_(service) {}
+  explicit BasicServiceTransport(Svc& service) : service_(service) {}
   void set_filter(Filter f) { filter_ = std::move(f); }
 
   bool write_all(std::span<const std::uint8_t> bytes) override {
@@ -86,10 +88,12 @@ class ServiceTransport final : public hil::ByteTransport {
     return false;
   }
 
-  Service& service_;
+  Svc& service_;
   Filter filter_;
   std::vector<std::uint8_t> pending_in_;
   std::deque<std::uint8_t> to_host_;
 };
+
+using ServiceTransport = BasicServiceTransport<Service>;
 
 }  // namespace app_test

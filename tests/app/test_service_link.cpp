@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../planner/scene_builder.hpp"
+#include "itp/configurations.hpp"
 #include "itp/link/crc32.hpp"
 #include "itp/link/planner_messages.hpp"
 #include "itp/planner/planner.hpp"
@@ -149,6 +150,43 @@ TEST_CASE("lost request and reply segments are asked for and resent until the pl
   CHECK(svc->counters().resent > 0);              // the client's Query named what it missed
   CHECK(svc->counters().auth.accepted == 3);      // each Scene planned exactly once
   CHECK(client.counters().timeouts == 0);
+}
+
+TEST_CASE("with shared QP storage the request is reassembled in the planner's storage, segments lost or not") {
+  // LowRamConfig: the default sizes, the QPs sharing one storage, which the
+  // inbox borrows between cycles (app/firmware_service.hpp).
+  using LowRamService = itp::app::FirmwareService<itp::LowRamConfig>;
+  static_assert(LowRamService::kInboxInQpStorage && !app_test::Service::kInboxInQpStorage);
+  auto svc = app_test::provisioned_service<LowRamService>();
+  app_test::BasicServiceTransport<LowRamService> link(*svc);
+  hil::ClientPacing pacing = fast_pacing();
+  pacing.max_segment = 64;
+  hil::LinkClient client(link, pacing);
+  client.set_key(app_test::test_key());
+  REQUIRE(client.open_session(std::chrono::seconds(5)));
+  int frame_no = 0;
+  link.set_filter([&](auto, const FrameView& f) {
+    return f.header.type == MessageType::kPlanRequest && (frame_no++ % 4 == 0) && f.header.segment_index % 2 == 0;
+  });
+  // The planner on the host, fed the same scenes in the same order.
+  auto planner = std::make_unique<itp::planner::BasicPlanner<itp::LowRamConfig>>();
+  for (std::uint32_t cycle = 1; cycle <= 4; ++cycle) {
+    const auto body = scene_body(0.1 * cycle, cycle == 1, cycle);
+    const PlannedReply got = plan_over(client, body);
+    CHECK(got.header.scene_crc == crc32(body));
+    auto wire = std::make_unique<itp::scene::BasicScene<itp::LowRamConfig>>();
+    SceneHeader h;
+    REQUIRE(decode_scene(body, h, *wire));
+    const auto& expected = planner->plan({wire.get(), h.now});
+    CHECK(got.plan->status == expected.status);
+    REQUIRE(got.plan->trajectory.size() == expected.trajectory.size());
+    for (std::size_t k = 0; k < expected.trajectory.size(); ++k) {
+      CHECK(got.plan->trajectory[k].x == doctest::Approx(expected.trajectory[k].x).epsilon(1e-6));
+      CHECK(got.plan->trajectory[k].v == doctest::Approx(expected.trajectory[k].v).epsilon(1e-5));
+    }
+  }
+  CHECK(client.counters().segments_resent > 0);
+  CHECK(svc->counters().auth.accepted == 4);
 }
 
 TEST_CASE("a request repeated whole is answered again but planned once") {

@@ -130,6 +130,32 @@ void check_same_scene(const Scene& a, const Scene& b) {
 
 }  // namespace
 
+TEST_CASE("a rejected plan encodes as an empty plan with status invalid_input and its reason") {
+  using itp::scene::ValidationReason;
+  for (ValidationReason why : {ValidationReason::kNone, ValidationReason::kReferenceLineSharpTurn}) {
+    itp::link::PlanHeader h;
+    h.cycle = 77;
+    h.scene_crc = 0xDEADBEEFu;
+    auto plan = std::make_unique<itp::planner::Plan>();
+    plan->status = itp::PlanStatus::kInvalidInput;
+    plan->invalid = why;
+    std::vector<std::uint8_t> a(itp::link::kMaxPlanBytes<itp::DefaultConfig>, 0x11);
+    std::vector<std::uint8_t> b(a.size(), 0x22);
+    const std::size_t na = itp::link::encode_plan(h, *plan, a);
+    const std::size_t nb = itp::link::encode_rejected_plan(h, why, b);
+    REQUIRE(na > 0);
+    REQUIRE(nb == na);
+    CHECK(std::equal(a.begin(), a.begin() + static_cast<long>(na), b.begin()));
+    itp::link::PlanHeader back_h;
+    auto back = std::make_unique<itp::planner::Plan>();
+    REQUIRE(itp::link::decode_plan(std::span<const std::uint8_t>(b.data(), nb), back_h, *back));
+    CHECK(back->status == itp::PlanStatus::kInvalidInput);
+    CHECK(back->invalid == why);
+    CHECK(back->trajectory.empty());
+    CHECK(back_h.cycle == 77);
+  }
+}
+
 TEST_CASE("BasicScene::reset gives a default scene, in place") {
   auto s = std::make_unique<Scene>(scene_test::baseline_scene());
   (void)s->road.left.table.push_back({Scalar(1), Scalar(2)});

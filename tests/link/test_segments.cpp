@@ -79,6 +79,56 @@ TEST_CASE("an inbox restarts on another message and refuses one beyond its capac
   CHECK(in->add(dec.frame()) == InboxResult::kTooLarge);
 }
 
+namespace {
+
+// Borrowed bytes whose owner a test can take back (as a plan() takes the
+// planner's QP storage back from the firmware's inbox).
+struct LentForTest {
+  std::vector<std::uint8_t>* bytes = nullptr;
+  bool* kept_flag = nullptr;
+  void take() { *kept_flag = true; }
+  bool kept() const { return *kept_flag; }
+  std::uint8_t* data() { return bytes->data(); }
+};
+
+}  // namespace
+
+TEST_CASE("an inbox in borrowed bytes starts its message again when the owner used them meanwhile") {
+  std::vector<std::uint8_t> storage(2000);
+  bool kept = false;
+  Inbox<2000, LentForTest> in;
+  in.bytes() = LentForTest{&storage, &kept};
+  auto out = std::make_unique<Outbox<kCap>>();
+  std::mt19937 rng(7);
+  const auto message = link_test::random_bytes(rng, 1000, 5);
+  std::copy(message.begin(), message.end(), out->buffer().begin());
+  REQUIRE(out->stage(MessageType::kPlanRequest, 4, message.size(), 100, 0, false));
+  const auto frames = drain(*out);
+  REQUIRE(frames.size() == 10);
+  FrameDecoder dec;
+  for (std::size_t i = 0; i < 5; ++i) {
+    REQUIRE(link_test::feed(dec, frames[i]) == 1);
+    CHECK(in.add(dec.frame()) == InboxResult::kStored);
+  }
+  CHECK(in.holds(MessageType::kPlanRequest, 4));
+  CHECK(in.received().count() == 5);
+  kept = false;  // the owner used the bytes: what they held is gone
+  std::fill(storage.begin(), storage.end(), std::uint8_t{0xEE});
+  CHECK_FALSE(in.holds(MessageType::kPlanRequest, 4));  // a Query then hears "none held"
+  REQUIRE(link_test::feed(dec, frames[5]) == 1);
+  CHECK(in.add(dec.frame()) == InboxResult::kStored);
+  CHECK(in.received().count() == 1);  // only the segment that came after
+  for (std::size_t i : {0u, 1u, 2u, 3u, 6u, 7u, 8u}) {
+    REQUIRE(link_test::feed(dec, frames[i]) == 1);
+    CHECK(in.add(dec.frame()) == InboxResult::kStored);
+  }
+  REQUIRE(link_test::feed(dec, frames[4]) == 1);
+  CHECK(in.add(dec.frame()) == InboxResult::kStored);
+  REQUIRE(link_test::feed(dec, frames[9]) == 1);
+  CHECK(in.add(dec.frame()) == InboxResult::kComplete);
+  CHECK(std::vector<std::uint8_t>(in.message().begin(), in.message().end()) == message);
+}
+
 TEST_CASE("an outbox resends exactly the segments reported missing, polling with the last") {
   auto out = std::make_unique<Outbox<kCap>>();
   auto in = std::make_unique<Inbox<kCap>>();

@@ -35,6 +35,30 @@ TEST_CASE("configuration: the compact planner's memory follows its sizes") {
                                      << sizeof(CompactPlanner) << " B");
 }
 
+TEST_CASE("configuration: shared QP storage is lent between cycles and a plan takes it back") {
+  using LowRamPlanner = itp::planner::BasicPlanner<itp::LowRamConfig>;
+  static_assert(itp::planner::Planner::kLendableBytes == 0, "one storage per QP: nothing to lend");
+  static_assert(LowRamPlanner::kLendableBytes >= sizeof(itp::qp::QpStorage<itp::qp::PathQpDims<itp::Scalar, itp::LowRamConfig>>));
+  auto planner = std::make_unique<LowRamPlanner>();
+  const auto scene = road_scene<itp::scene::BasicScene<itp::LowRamConfig>>(1, 0);
+  const int borrower = 0;
+  const auto bytes = planner->lend(&borrower);
+  CHECK(bytes.size() == LowRamPlanner::kLendableBytes);
+  std::memset(bytes.data(), 0xA5, bytes.size());  // what a borrower leaves there must not matter
+  CHECK(planner->lent_to(&borrower));
+  const auto& first = planner->plan({&scene, 0});
+  CHECK_FALSE(planner->lent_to(&borrower));
+  REQUIRE(first.status == itp::PlanStatus::kOk);
+  // The same as a planner whose storage was never lent.
+  auto fresh = std::make_unique<LowRamPlanner>();
+  const auto& expected = fresh->plan({&scene, 0});
+  REQUIRE(first.trajectory.size() == expected.trajectory.size());
+  for (std::size_t k = 0; k < expected.trajectory.size(); ++k) {
+    CHECK(first.trajectory[k].x == expected.trajectory[k].x);
+    CHECK(first.trajectory[k].v == expected.trajectory[k].v);
+  }
+}
+
 TEST_CASE("configuration: compact planner cruises a free road over its own horizon") {
   const auto s = road_scene<CompactScene>(1, 0);
   CompactRun r;

@@ -173,7 +173,7 @@ struct DefaultSizes {
 
   // Memory: sizeof(BasicPlanner<Cfg>) may not exceed this (checked at compile
   // time in planner.cpp on every target; docs/performance.md, "Memory").
-  static constexpr unsigned long kPlannerBytesBudget = 303104;  // 296 KiB (298 720 B on x86-64, double)
+  static constexpr unsigned long kPlannerBytesBudget = 294912;  // 288 KiB (287 920 B on x86-64, double)
 };
 
 template <class Sizes>

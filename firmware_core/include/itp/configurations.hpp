@@ -29,7 +29,7 @@ struct CompactSizes : DefaultSizes {
   static constexpr int kMaxPlannerIterations = 4;
   static constexpr int kMaxPathSolvesPerCycle = 8;
   static constexpr bool kShareQpStorage = true;  // its QPs share one storage
-  static constexpr unsigned long kPlannerBytesBudget = 106496;  // 104 KiB (102 960 B)
+  static constexpr unsigned long kPlannerBytesBudget = 94208;  // 92 KiB (91 872 B)
 };
 using CompactConfig = Configuration<CompactSizes>;
 
@@ -38,7 +38,7 @@ using CompactConfig = Configuration<CompactSizes>;
 // float image plans with it (docs/memory.md, "The float image").
 struct LowRamSizes : DefaultSizes {
   static constexpr bool kShareQpStorage = true;
-  static constexpr unsigned long kPlannerBytesBudget = 221184;  // 216 KiB (216 464 B in double)
+  static constexpr unsigned long kPlannerBytesBudget = 200704;  // 196 KiB (197 984 B in double)
 };
 using LowRamConfig = Configuration<LowRamSizes>;
 
@@ -51,7 +51,7 @@ struct RoadSizes : DefaultSizes {
   static constexpr int kMaxStaticObstacles = 32;
   static constexpr int kMaxDynamicObstacles = 32;
   static constexpr int kMaxPredictionSamples = 40;
-  static constexpr unsigned long kPlannerBytesBudget = 507904;  // 496 KiB (503 840 B)
+  static constexpr unsigned long kPlannerBytesBudget = 495616;  // 484 KiB (493 040 B)
 };
 using RoadConfig = Configuration<RoadSizes>;
 

@@ -194,8 +194,25 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& h, scene::Basic
   return r.done();
 }
 
-template <class Cfg>
-std::size_t encode_plan(const PlanHeader& h, const planner::BasicPlan<Cfg>& p, std::span<std::uint8_t> out) {
+namespace {
+
+// A reply that plans nothing (the firmware's answer to a scene that does
+// not validate): the fields of an empty plan, without its storage.
+struct RejectedPlan {
+  PlanStatus status = PlanStatus::kInvalidInput;
+  planner::FallbackReason fallback = planner::FallbackReason::kNone;
+  scene::ValidationReason invalid = scene::ValidationReason::kNone;
+  int iterations = 0;
+  int qp_solves = 0;
+  int qp_iterations = 0;
+  planner::StageTiming timing{};
+  std::span<const planner::TrajectoryPoint> trajectory{};
+  std::span<const planner::ObstacleDecision> decisions{};
+};
+
+// One writer for both: P is a BasicPlan or a RejectedPlan.
+template <class P>
+std::size_t write_plan(const PlanHeader& h, const P& p, std::span<std::uint8_t> out) {
   const double ox = h.origin_x;
   const double oy = h.origin_y;
   ByteWriter w(out);
@@ -240,6 +257,19 @@ std::size_t encode_plan(const PlanHeader& h, const planner::BasicPlan<Cfg>& p, s
     w.u8(d.dynamic ? 1u : 0u);
   }
   return w.ok() ? w.size() : 0;
+}
+
+}  // namespace
+
+template <class Cfg>
+std::size_t encode_plan(const PlanHeader& h, const planner::BasicPlan<Cfg>& p, std::span<std::uint8_t> out) {
+  return write_plan(h, p, out);
+}
+
+std::size_t encode_rejected_plan(const PlanHeader& h, scene::ValidationReason why, std::span<std::uint8_t> out) {
+  RejectedPlan p;
+  p.invalid = why;
+  return write_plan(h, p, out);
 }
 
 template <class Cfg>

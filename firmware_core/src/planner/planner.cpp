@@ -31,6 +31,16 @@ const char* to_string(FallbackReason reason) {
   return "unknown";
 }
 
+template <class Cfg>
+auto BasicPlanner<Cfg>::spline_workspace() -> SplineWorkspace& {
+  if constexpr (Cfg::kShareQpStorage) {
+    bool fresh = false;  // the fit writes every entry before it reads it
+    return iteration_.qp_arenas().shared.template claim_object<SplineWorkspace>(this, fresh);
+  } else {
+    return spline_ws_;
+  }
+}
+
 // Validation, the reference line, the horizon and the scene in its frame.
 // false: out.status says invalid input, or the ego is at the end of the map.
 template <class Cfg>
@@ -41,7 +51,7 @@ bool BasicPlanner<Cfg>::prepare(const Scene& scene, Scalar now, Plan& out) {
     out.invalid = v.reason;
     return false;
   }
-  if (reference_.build(scene.reference_line.span(), spline_ws_) != geometry::ReferenceLineStatus::kOk) {
+  if (reference_.build(scene.reference_line.span(), spline_workspace()) != geometry::ReferenceLineStatus::kOk) {
     out.status = PlanStatus::kInvalidInput;
     out.invalid = scene::ValidationReason::kReferenceLineSharpTurn;
     return false;
@@ -148,11 +158,6 @@ void BasicPlanner<Cfg>::stop_safely(const Scene* scene, Scalar now, FallbackReas
 // (Planning it anew would stitch onto that plan at age 0 and hotstart from
 // its QPs: a different plan, defect 11.)
 template <class Cfg>
-void BasicPlanner<Cfg>::repeat_last(Plan& out) const {
-  out = last_status_ == PlanStatus::kOk ? previous_ : last_other_;
-}
-
-template <class Cfg>
 void BasicPlanner<Cfg>::reset() {
   have_last_digest_ = false;
   have_previous_ = false;
@@ -162,25 +167,27 @@ void BasicPlanner<Cfg>::reset() {
 }
 
 template <class Cfg>
-PlanStatus BasicPlanner<Cfg>::plan(const PlanRequest& request, Plan& out) {
+auto BasicPlanner<Cfg>::plan(const PlanRequest& request) -> const Plan& {
   const std::uint64_t t_begin = ticks_.ticks();
-  out = Plan{};
-  out.timing.tick_hz = ticks_.hz;
+  Plan& out = output_;
   iteration_.begin_cycle();
-  if (request.scene == nullptr) {
-    out.status = PlanStatus::kInvalidInput;
-    stop_safely(nullptr, request.now, FallbackReason::kNone, out);
-    return out.status;
-  }
-  const Scene& scene = *request.scene;
-  const std::uint64_t digest = scene::digest(scene, request.now);
-  if (have_last_digest_ && digest == last_digest_) {
-    repeat_last(out);
+  const std::uint64_t digest = request.scene != nullptr ? scene::digest(*request.scene, request.now) : 0;
+  if (request.scene != nullptr && have_last_digest_ && digest == last_digest_) {
+    // The same scene again: the same plan (output_ still holds it).
     out.timing = StageTiming{};
     out.timing.tick_hz = ticks_.hz;
     out.timing.total = ticks_.ticks() - t_begin;
-    return out.status;
+    return out;
   }
+  out = Plan{};
+  out.timing.tick_hz = ticks_.hz;
+  if (request.scene == nullptr) {
+    out.status = PlanStatus::kInvalidInput;
+    stop_safely(nullptr, request.now, FallbackReason::kNone, out);
+    have_last_digest_ = false;  // output_ no longer holds the last scene's plan
+    return out;
+  }
+  const Scene& scene = *request.scene;
   const bool prepared = prepare(scene, request.now, out);
   out.timing.prepare = ticks_.ticks() - t_begin;
   if (!prepared) {
@@ -218,13 +225,9 @@ PlanStatus BasicPlanner<Cfg>::plan(const PlanRequest& request, Plan& out) {
     fallback_memory_.holding_l = false;
   }
   last_cycle_ok_ = out.status == PlanStatus::kOk;
-  last_status_ = out.status;
-  if (out.status != PlanStatus::kOk) {
-    last_other_ = out;
-  }
   last_digest_ = digest;
   have_last_digest_ = true;
-  return out.status;
+  return out;
 }
 
 // Explicit instantiations for every configuration (itp/configurations.hpp),

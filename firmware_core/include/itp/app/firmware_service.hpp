@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "itp/core/stack_probe.hpp"
 #include "itp/core/tick_source.hpp"
@@ -40,6 +41,22 @@ struct NoExtension {
   }
 };
 
+// An inbox's bytes borrowed from the planner's shared QP storage, which is
+// free between cycles (planner.hpp, lend): a request is reassembled there
+// and decoded before the cycle it asks for runs (link/segments.hpp, Bytes).
+template <class Planner>
+class PlannerLentBytes {
+ public:
+  void attach(Planner* planner) { planner_ = planner; }
+  void take() { bytes_ = planner_->lend(this).data(); }
+  bool kept() const { return planner_->lent_to(this); }
+  std::uint8_t* data() { return bytes_; }
+
+ private:
+  Planner* planner_ = nullptr;
+  std::uint8_t* bytes_ = nullptr;
+};
+
 template <class Cfg, class Extension = NoExtension>
 class FirmwareService {
   static constexpr std::size_t max_of(std::size_t a, std::size_t b) { return a > b ? a : b; }
@@ -55,9 +72,20 @@ class FirmwareService {
              max_of(link::kPongBytes, link::kDiagnosticsBytes));
   static_assert(kMaxRequestBytes <= link::kMaxMessageBytes && kMaxReplyBytes <= link::kMaxMessageBytes,
                 "a message of this configuration does not fit the link");
+  using Planner = planner::BasicPlanner<Cfg>;
+  // Requests are reassembled in the planner's QP storage where it is shared
+  // and large enough (docs/memory.md, "Lent storage"), else in the inbox's own bytes.
+  static constexpr bool kInboxInQpStorage = Planner::kLendableBytes >= kMaxRequestBytes;
+  using InboxBytes = std::conditional_t<kInboxInQpStorage, PlannerLentBytes<Planner>,
+                                        link::InlineBytes<kMaxRequestBytes>>;
+  using RequestInbox = link::Inbox<kMaxRequestBytes, InboxBytes>;
 
   // The firmware constructs it in place in zeroed static storage (.bss).
-  FirmwareService() = default;
+  FirmwareService() {
+    if constexpr (kInboxInQpStorage) {
+      inbox_.bytes().attach(&planner_);
+    }
+  }
   // `build_id` must outlive the service (a string literal in practice).
   void set_build_id(const char* build_id) { build_id_ = build_id; }
   // The port's counter, reported in Pong and used for per-stage timing.
@@ -277,18 +305,15 @@ class FirmwareService {
     const Scalar now = static_cast<Scalar>(header.now);
     const scene::ValidationResult valid = scene::validate(scene_, now);
     if (!valid.ok()) {
-      plan_ = planner::BasicPlan<Cfg>{};
-      plan_.status = PlanStatus::kInvalidInput;
-      plan_.invalid = valid.reason;
-      return link::encode_plan(ph, plan_, out);
+      return link::encode_rejected_plan(ph, valid.reason, out);
     }
     if (header.reset) {
       planner_.reset();
     }
-    planner_.plan(planner::BasicPlanRequest<Cfg>{&scene_, now}, plan_);
+    const planner::BasicPlan<Cfg>& plan = planner_.plan(planner::BasicPlanRequest<Cfg>{&scene_, now});
     ph.origin_x = static_cast<double>(scene_.reference_line[0].x);  // validated: >= 2 finite points
     ph.origin_y = static_cast<double>(scene_.reference_line[0].y);
-    return link::encode_plan(ph, plan_, out);
+    return link::encode_plan(ph, plan, out);
   }
 
   void reply_error(Type type, std::uint16_t seq, link::ErrorCode code) {
@@ -318,7 +343,7 @@ class FirmwareService {
   TickSource ticks_{};
   StackProbe stack_{};
   link::FrameDecoder decoder_;                     // one segment frame
-  link::Inbox<kMaxRequestBytes> inbox_;            // the request being reassembled
+  RequestInbox inbox_;                             // the request being reassembled
   link::Outbox<kMaxReplyBytes> outbox_;            // the last reply (resent on a Query)
   link::Outbox<link::kSegmentReportBytes> control_;  // a Status
   std::array<std::uint8_t, link::kMaxWireFrameBytes> tx_{};  // the frame next_frame() returns
@@ -336,8 +361,7 @@ class FirmwareService {
 
   // Planning service: one cycle per Scene message.
   scene::BasicScene<Cfg> scene_{};
-  planner::BasicPlanner<Cfg> planner_{};
-  planner::BasicPlan<Cfg> plan_{};
+  Planner planner_{};  // holds the cycle's plan until it is encoded
   Extension extension_{};
 };
 

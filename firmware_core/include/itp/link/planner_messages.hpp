@@ -65,6 +65,10 @@ bool decode_scene(std::span<const std::uint8_t> in, SceneHeader& header,
 template <class Cfg>
 std::size_t encode_plan(const PlanHeader& header, const planner::BasicPlan<Cfg>& plan,
                         std::span<std::uint8_t> out);
+// The bytes encode_plan gives for an empty plan with status invalid_input
+// and reason `why` (no trajectory; the vehicle's own safe stop applies).
+std::size_t encode_rejected_plan(const PlanHeader& header, scene::ValidationReason why,
+                                 std::span<std::uint8_t> out);
 template <class Cfg>
 bool decode_plan(std::span<const std::uint8_t> in, PlanHeader& header, planner::BasicPlan<Cfg>& plan);
 

@@ -42,10 +42,29 @@ enum class InboxResult : std::uint8_t {
   kTooLarge,   // the message exceeds the capacity: dropped
 };
 
+// Where an Inbox reassembles: bytes of its own (InlineBytes), or bytes it
+// borrows between uses by their owner (the firmware borrows the planner's
+// QP storage between cycles, app/firmware_service.hpp). A Bytes type has
+//   void take();                 claim the buffer for the inbox
+//   bool kept() const;           nobody else used it since the last take()
+//   std::uint8_t* data();        the buffer (Capacity bytes)
+template <std::size_t Capacity>
+class InlineBytes {
+ public:
+  void take() {}
+  bool kept() const { return true; }
+  std::uint8_t* data() { return bytes_.data(); }
+
+ private:
+  std::array<std::uint8_t, Capacity> bytes_{};
+};
+
 // Reassembles one message at a time. A segment of another message (type,
 // sequence number, length or count differ) starts that message afresh: the
-// sender has moved on, or the old one was never going to complete.
-template <std::size_t Capacity>
+// sender has moved on, or the old one was never going to complete. So does
+// one whose borrowed bytes their owner used meanwhile (its segments are
+// then asked for again, like lost ones).
+template <std::size_t Capacity, class Bytes = InlineBytes<Capacity>>
 class Inbox {
  public:
   InboxResult add(const FrameView& frame) {
@@ -54,7 +73,8 @@ class Inbox {
       return InboxResult::kTooLarge;
     }
     if (!active_ || h.type != type_ || h.sequence != sequence_ || h.message_length != length_ ||
-        h.segment_count != count_) {
+        h.segment_count != count_ || !bytes_.kept()) {
+      bytes_.take();
       active_ = true;
       type_ = h.type;
       sequence_ = h.sequence;
@@ -66,8 +86,9 @@ class Inbox {
       return InboxResult::kDuplicate;
     }
     const std::size_t offset = segment_offset(length_, count_, h.segment_index);
+    std::uint8_t* const buffer = bytes_.data();
     for (std::size_t k = 0; k < frame.chunk.size(); ++k) {  // <= kMaxSegmentBytes
-      buffer_[offset + k] = frame.chunk[k];
+      buffer[offset + k] = frame.chunk[k];
     }
     have_.set(h.segment_index);
     return have_.count() == count_ ? InboxResult::kComplete : InboxResult::kStored;
@@ -75,7 +96,7 @@ class Inbox {
 
   bool active() const { return active_; }
   bool holds(MessageType type, std::uint16_t sequence) const {
-    return active_ && type_ == type && sequence_ == sequence;
+    return active_ && type_ == type && sequence_ == sequence && bytes_.kept();
   }
   bool complete() const { return active_ && have_.count() == count_; }
   MessageType type() const { return type_; }
@@ -83,11 +104,12 @@ class Inbox {
   std::size_t segment_count() const { return count_; }
   const SegmentSet& received() const { return have_; }
   // The whole message; meaningful once complete().
-  std::span<std::uint8_t> message() { return std::span<std::uint8_t>(buffer_.data(), length_); }
+  std::span<std::uint8_t> message() { return std::span<std::uint8_t>(bytes_.data(), length_); }
   void clear() { active_ = false; }
+  Bytes& bytes() { return bytes_; }  // to attach borrowed bytes to their owner
 
  private:
-  std::array<std::uint8_t, Capacity> buffer_{};
+  Bytes bytes_{};
   SegmentSet have_{};
   MessageType type_{};
   std::uint16_t sequence_ = 0;

@@ -77,6 +77,11 @@ class BasicIteration {
   // Last cycle's path re-expressed in a frame whose s = 0 lies `ds` further on.
   void shift_path_frame(Scalar ds) { path_.s0 += ds; }
 
+  // The QP storage, for the planner's other uses of shared storage between
+  // QP solves (planner.hpp: the reference spline's workspace, lending).
+  qp::PlannerQpArenas<Cfg>& qp_arenas() { return qp_arenas_; }
+  const qp::PlannerQpArenas<Cfg>& qp_arenas() const { return qp_arenas_; }
+
   const Search& search() const { return search_; }
   const StGraph& st_graph() const { return st_; }
   const SpeedOptimizer& speed_optimizer() const { return speed_opt_; }

@@ -6,6 +6,8 @@
 // compile-time iteration limit). It never allocates, never throws and always
 // returns a usable trajectory: bad input and failures give a safe stop.
 #include <array>
+#include <span>
+#include <type_traits>
 
 #include "itp/core/tick_source.hpp"
 #include "itp/geometry/reference_line.hpp"
@@ -62,7 +64,32 @@ class BasicPlanner {
   // cycle's output depends on its input alone.
   void reset();
 
-  PlanStatus plan(const PlanRequest& request, Plan& out);
+  // One cycle. The plan stays in the planner until the next plan() or
+  // reset() (a firmware encodes it from there; no second copy).
+  const Plan& plan(const PlanRequest& request);
+  // The same, copied to `out` (host tools).
+  PlanStatus plan(const PlanRequest& request, Plan& out) {
+    out = plan(request);
+    return out.status;
+  }
+
+  // With one shared QP storage (Cfg::kShareQpStorage) its bytes are free
+  // between plan() calls: the firmware reassembles its next request in
+  // them (app/firmware_service.hpp). Lending ends the stages' holds, so
+  // each rebuilds its problem and restarts warm on its next claim (the
+  // first QP of a cycle does so anyway when they share). `holder` asks
+  // lent_to() whether a plan() used the bytes since it borrowed them.
+  static constexpr std::size_t kLendableBytes = qp::PlannerQpArenas<Cfg>::kLendableBytes;
+  std::span<unsigned char> lend(const void* holder)
+    requires(Cfg::kShareQpStorage)
+  {
+    return iteration_.qp_arenas().shared.claim_bytes(holder);
+  }
+  bool lent_to(const void* holder) const
+    requires(Cfg::kShareQpStorage)
+  {
+    return iteration_.qp_arenas().shared.held_by(holder);
+  }
 
   // Read-only views for tools (planner_cli, plots): the last cycle's stages.
   const DecisionStage& decision_stage() const { return iteration_.search().stage(); }
@@ -84,13 +111,17 @@ class BasicPlanner {
   bool prepare(const Scene& scene, Scalar now, Plan& out);
   StartState start_state(const Scene& scene, Scalar now) const;
   void stop_safely(const Scene* scene, Scalar now, FallbackReason reason, Plan& out);
-  void repeat_last(Plan& out) const;
   Scalar stop_before_map_end() const;
 
   TickSource ticks_{};
   PlannerSettings settings_{};
 
-  geometry::BasicSmoothingSplineWorkspace<Cfg> spline_ws_{};
+  // The reference spline's workspace, used only while prepare() fits the
+  // reference line, before any QP: in the QP storage when that is shared.
+  using SplineWorkspace = geometry::BasicSmoothingSplineWorkspace<Cfg>;
+  struct InQpStorage {};
+  SplineWorkspace& spline_workspace();
+  [[no_unique_address]] std::conditional_t<Cfg::kShareQpStorage, InQpStorage, SplineWorkspace> spline_ws_{};
   ReferenceLine reference_{};
   geometry::Point2 origin_{};  // [m] first reference point (s = 0) of the last prepared cycle
   BasicSlScene<Cfg> sl_{};
@@ -112,8 +143,9 @@ class BasicPlanner {
   // instead of a plan stitched onto itself.
   std::uint64_t last_digest_ = 0;
   bool have_last_digest_ = false;
-  PlanStatus last_status_ = PlanStatus::kInvalidInput;
-  Plan last_other_{};  // the last output when it was not ok (an ok one is previous_)
+  // This cycle's output while it is planned, then the last output (repeated
+  // for the same scene). An ok one is copied to previous_.
+  Plan output_{};
 };
 
 using PlanRequest = BasicPlanRequest<DefaultConfig>;

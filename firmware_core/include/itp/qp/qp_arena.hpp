@@ -10,6 +10,8 @@
 // Plain static storage: no heap.
 #include <cstddef>
 #include <new>
+#include <span>
+#include <type_traits>
 
 #include "itp/core/assert.hpp"
 #include "itp/qp/dimensions.hpp"
@@ -39,18 +41,35 @@ class QpArena {
   // hold it; it then holds another QP's bytes, sizes 0 and no factor.
   template <class D>
   QpStorage<D>& claim(const void* holder, bool& fresh) {
-    static_assert(sizeof(QpStorage<D>) <= Bytes, "the QP arena is smaller than this QP's storage");
-    static_assert(alignof(QpStorage<D>) <= kAlign, "the QP arena is less aligned than this QP's storage");
+    return claim_object<QpStorage<D>>(holder, fresh);
+  }
+  // The block as an object of type T for `holder`: a QP's storage, or
+  // between QP solves another phase's scratch (the reference spline's
+  // workspace). Default-initialisation: the scalar members' initialisers
+  // run (sizes 0, no factor), the arrays keep the bytes they have; a build
+  // resets the problem and a solve writes every workspace entry before it
+  // reads it. So a claim costs O(1), not O(Bytes).
+  template <class T>
+  T& claim_object(const void* holder, bool& fresh) {
+    static_assert(sizeof(T) <= Bytes, "the QP arena is smaller than this object");
+    static_assert(alignof(T) <= kAlign, "the QP arena is less aligned than this object");
+    static_assert(std::is_trivially_destructible_v<T>, "a claim ends the last object without a destructor");
     fresh = holder_ != holder;
     if (fresh) {
-      // Default-initialisation: the scalar members' initialisers run (sizes
-      // 0, no factor), the arrays keep the bytes they have; a build resets
-      // the problem and a solve writes every workspace entry before it reads
-      // it. So a claim costs O(1), not O(Bytes).
-      object_ = ::new (static_cast<void*>(bytes_)) QpStorage<D>;
+      object_ = ::new (static_cast<void*>(bytes_)) T;
       holder_ = holder;
     }
-    return *static_cast<QpStorage<D>*>(object_);
+    return *static_cast<T*>(object_);
+  }
+  // The block as plain bytes for `holder` (the firmware's inbox, which
+  // reassembles a request between cycles). Ends every other hold; the
+  // holder asks held_by() before it trusts what it wrote there earlier.
+  std::span<unsigned char> claim_bytes(const void* holder) {
+    if (holder_ != holder) {
+      object_ = nullptr;
+      holder_ = holder;
+    }
+    return std::span<unsigned char>(bytes_, Bytes);
   }
   bool held_by(const void* holder) const { return holder_ == holder; }
   // The storage `holder` claimed last (a precondition: nobody claimed it since).
@@ -86,6 +105,7 @@ struct PlannerQpArenas<Cfg, true> {
   using CoarseArena = Arena;
   using PathArena = Arena;
   using SpeedArena = Arena;
+  static constexpr std::size_t kLendableBytes = Arena::kBytes;  // free between cycles (planner.hpp)
   CoarseArena& coarse() { return shared; }
   PathArena& path() { return shared; }
   SpeedArena& speed() { return shared; }
@@ -97,6 +117,7 @@ struct PlannerQpArenas<Cfg, false> {
   using CoarseArena = QpArena<largest_storage<CoarseQpDims<Scalar, Cfg>>()>;
   using PathArena = QpArena<largest_storage<PathQpDims<Scalar, Cfg>>()>;
   using SpeedArena = QpArena<largest_storage<SpeedQpDims<Scalar, Cfg>>()>;
+  static constexpr std::size_t kLendableBytes = 0;  // each stage holds its own at all times
   CoarseArena& coarse() { return coarse_qp; }
   PathArena& path() { return path_qp; }
   SpeedArena& speed() { return speed_qp; }
