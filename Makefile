@@ -59,6 +59,7 @@ help:
 	@echo "make stack  - worst-case stack path from the call graph (-fstack-usage), fails on recursion,"
 	@echo "              dynamic frames, unresolved indirect calls or a linker-script stack below bound + margin"
 	@echo "make wcet   - the derived worst case per cycle: budgets x measured cost per unit, measured maxima"
+	@echo "              (WCET_IMAGE=f32: the float low-RAM image's; also for wcet-measure)"
 	@echo "make wcet-measure - measure the costs per unit under QEMU (default + stress suite, long)"
 	@echo "make fuzz   - run every libFuzzer target for FUZZ_SECONDS seconds (default 60);"
 	@echo "              FUZZ_PRESET=fuzz-long (no ASan) and FUZZ_OPTS=-runs=10000000 for long runs"
@@ -96,24 +97,38 @@ host-release: cortex-m7
 
 # The derived worst-case bound (issue 12): budgets from itp/config.hpp times the
 # costs per unit in tools/wcet_costs.json (docs/performance.md, "Worst case").
+# WCET_IMAGE=f32: the float low-RAM image's, with LowRamSizes' budgets and its
+# own costs (tools/wcet_costs_f32.json).
+WCET_IMAGE ?= default
+ifeq ($(WCET_IMAGE),f32)
+WCET_ELF := $(F32_FIRMWARE_ELF)
+WCET_SIZES := LowRamSizes
+WCET_COSTS := tools/wcet_costs_f32.json
+WCET_OUT ?= build/wcet-f32
+else
+WCET_ELF := $(FIRMWARE_ELF)
+WCET_SIZES := DefaultSizes
+WCET_COSTS := tools/wcet_costs.json
+WCET_OUT ?= build/wcet
+endif
 wcet:
-	@python3 tools/wcet_table.py table
+	@python3 tools/wcet_table.py --sizes $(WCET_SIZES) table --costs $(WCET_COSTS)
 
 # Re-measure the costs per unit and the maxima under QEMU (-icount): the default
 # suite and the stress suite (10 static + 5 dynamic obstacles). WCET_COUNT=200
 # WCET_STRESS_COUNT=40 for the full runs (about 15 + 10 minutes, in parallel).
 WCET_COUNT ?= 200
 WCET_STRESS_COUNT ?= 40
-WCET_OUT ?= build/wcet
-wcet-measure: host-release
+wcet-measure: host-release cortex-m7
 	mkdir -p $(WCET_OUT)
-	$(HIL_SIM) run --suite default --count $(WCET_COUNT) --seed 1 --target qemu --firmware $(FIRMWARE_ELF) \
+	$(HIL_SIM) run --suite default --count $(WCET_COUNT) --seed 1 --target qemu --firmware $(WCET_ELF) \
 	  --report $(WCET_OUT)/default.json --trace $(WCET_OUT)/default.jsonl > $(WCET_OUT)/default.txt & \
-	$(HIL_SIM) run --suite stress --count $(WCET_STRESS_COUNT) --seed 1 --target qemu --firmware $(FIRMWARE_ELF) \
+	$(HIL_SIM) run --suite stress --count $(WCET_STRESS_COUNT) --seed 1 --target qemu --firmware $(WCET_ELF) \
 	  --report $(WCET_OUT)/stress.json --trace $(WCET_OUT)/stress.jsonl > $(WCET_OUT)/stress.txt; wait
-	python3 tools/wcet_table.py measure --default $(WCET_OUT)/default.jsonl --stress $(WCET_OUT)/stress.jsonl \
-	  --note "default suite seed 1 x $(WCET_COUNT) scenes, stress suite seed 1 x $(WCET_STRESS_COUNT) scenes"
-	python3 tools/wcet_table.py table
+	python3 tools/wcet_table.py --sizes $(WCET_SIZES) measure --out $(WCET_COSTS) \
+	  --default $(WCET_OUT)/default.jsonl --stress $(WCET_OUT)/stress.jsonl \
+	  --note "$(notdir $(WCET_ELF)): default suite seed 1 x $(WCET_COUNT) scenes, stress suite seed 1 x $(WCET_STRESS_COUNT) scenes"
+	python3 tools/wcet_table.py --sizes $(WCET_SIZES) table --costs $(WCET_COSTS)
 
 size: cortex-m7
 	@echo "== ARM size report: $(FIRMWARE_ELF) (production image)"

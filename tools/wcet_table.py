@@ -15,7 +15,8 @@ Two steps, Python standard library only:
            units of a cycle: tight where the data is), and write the
            costs per unit and the measured maxima to a JSON file.
 
-  table    (default) Read the budgets from itp/config.hpp (DefaultSizes) and
+  table    (default) Read the budgets from itp/config.hpp (DefaultSizes, or
+           with --sizes a configuration's overrides of them) and
            the JSON, print budget x cost per unit per stage, the derived bound
            (with the stated margin on every measured cost) and the measured
            maxima on the default and the stress suite.
@@ -29,6 +30,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIG = ROOT / "firmware_core/include/itp/config.hpp"
+CONFIGURATIONS = ROOT / "firmware_core/include/itp/configurations.hpp"
 COSTS = ROOT / "tools/wcet_costs.json"
 INSTRUCTIONS_PER_TICK = 40  # port/mps2: the QEMU timer's 25 MHz at -icount shift=0 (1 GHz virtual)
 
@@ -68,13 +70,18 @@ def qp_work_of(work, budgets):
     return 1000.0 * sum(work[u] * budgets[c] for u, c in QP_WORK_COSTS.items())
 
 
-def read_budgets(path):
-    text = Path(path).read_text()
-    start = text.index("struct DefaultSizes")
-    body = text[start:text.index("};", start)]
-    budgets = {}
-    for m in re.finditer(r"static constexpr int (k\w+) = ([0-9]+);", body):
-        budgets[m.group(1)] = int(m.group(2))
+def read_budgets(path, sizes="DefaultSizes"):
+    """The int constants of DefaultSizes (itp/config.hpp), with those a
+    configuration derived from it overrides (`struct LowRamSizes : DefaultSizes`
+    in itp/configurations.hpp) when `sizes` names one."""
+    def constants(text, name):
+        start = text.index(f"struct {name}")
+        body = text[start:text.index("};", start)]
+        return {m.group(1): int(m.group(2))
+                for m in re.finditer(r"static constexpr int (k\w+) = ([0-9]+);", body)}
+    budgets = constants(Path(path).read_text(), "DefaultSizes")
+    if sizes != "DefaultSizes":
+        budgets.update(constants(CONFIGURATIONS.read_text(), sizes))
     return budgets
 
 
@@ -129,7 +136,7 @@ def fit(points, budgets):
 
 
 def measure(args):
-    budgets = read_budgets(args.config)
+    budgets = read_budgets(args.config, args.sizes)
     suites = {"default": args.default, "stress": args.stress}
     data = {name: read_cycles(paths) for name, paths in suites.items() if paths}
     allc = [c for cs in data.values() for c in cs]
@@ -174,12 +181,12 @@ def fmt_m(x):
 
 
 def table(args):
-    budgets = read_budgets(args.config)
+    budgets = read_budgets(args.config, args.sizes)
     costs = json.loads(Path(args.costs).read_text())
     margin = costs["margin"]
     print(f"Derived worst case per planning cycle (Cortex-M7 instructions, QEMU -icount; "
           f"measured costs x {margin:g} margin)")
-    print(f"budgets: {args.config}; costs: {args.costs}")
+    print(f"budgets: {args.config} ({args.sizes}); costs: {args.costs}")
     print()
     print(f"{'stage':<10} {'unit':<18} {'budget':>7} {'cost/unit':>11} {'product':>11}   {'max seen (units)':>16}")
     total = 0.0
@@ -236,6 +243,8 @@ def table(args):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--config", default=str(CONFIG))
+    ap.add_argument("--sizes", default="DefaultSizes",
+                    help="the configuration's sizes (e.g. LowRamSizes, the float image's)")
     sub = ap.add_subparsers(dest="cmd")
     m = sub.add_parser("measure", help="fit costs per unit from QEMU traces")
     m.add_argument("--default", nargs="*", default=[], help="traces of the default suite")
