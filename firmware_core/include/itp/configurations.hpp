@@ -38,6 +38,13 @@ using CompactConfig = Configuration<CompactSizes>;
 // float image plans with it (docs/memory.md, "The float image").
 struct LowRamSizes : DefaultSizes {
   static constexpr bool kShareQpStorage = true;
+  // Its QP work per cycle. A solve after another stage's claim rebuilds,
+  // factors and reloads its working set, so a unit costs more than in
+  // DefaultSizes' fit; the units are still charged at DefaultSizes' costs,
+  // which cover every measured cycle's QP total x 1.2 (worst 0.97 of what is
+  // charged; the float image under QEMU, tools/wcet_costs_f32.json), and 20 M
+  // keeps the measured maximum within 15 M (docs/performance.md, "The float image").
+  static constexpr int kQpWorkPerCycle = 20000;  // [k instructions]
   static constexpr unsigned long kPlannerBytesBudget = 200704;  // 196 KiB (197 984 B in double)
 };
 using LowRamConfig = Configuration<LowRamSizes>;
