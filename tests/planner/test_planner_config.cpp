@@ -38,6 +38,10 @@ TEST_CASE("configuration: the compact planner's memory follows its sizes") {
 TEST_CASE("configuration: shared QP storage is lent between cycles and a plan takes it back") {
   using LowRamPlanner = itp::planner::BasicPlanner<itp::LowRamConfig>;
   static_assert(itp::planner::Planner::kLendableBytes == 0, "one storage per QP: nothing to lend");
+  auto unshared = std::make_unique<itp::planner::Planner>();
+  const int asker = 0;
+  CHECK(unshared->lend(&asker).empty());
+  CHECK_FALSE(unshared->lent_to(&asker));
   static_assert(LowRamPlanner::kLendableBytes >= sizeof(itp::qp::QpStorage<itp::qp::PathQpDims<itp::Scalar, itp::LowRamConfig>>));
   auto planner = std::make_unique<LowRamPlanner>();
   const auto scene = road_scene<itp::scene::BasicScene<itp::LowRamConfig>>(1, 0);

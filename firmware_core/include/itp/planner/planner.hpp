@@ -80,15 +80,21 @@ class BasicPlanner {
   // first QP of a cycle does so anyway when they share). `holder` asks
   // lent_to() whether a plan() used the bytes since it borrowed them.
   static constexpr std::size_t kLendableBytes = qp::PlannerQpArenas<Cfg>::kLendableBytes;
-  std::span<unsigned char> lend(const void* holder)
-    requires(Cfg::kShareQpStorage)
-  {
-    return iteration_.qp_arenas().shared.claim_bytes(holder);
+  // Without shared storage there is nothing to lend (kLendableBytes 0):
+  // lend() gives no bytes and lent_to() is false.
+  std::span<unsigned char> lend(const void* holder) {
+    if constexpr (Cfg::kShareQpStorage) {
+      return iteration_.qp_arenas().shared.claim_bytes(holder);
+    } else {
+      return {};
+    }
   }
-  bool lent_to(const void* holder) const
-    requires(Cfg::kShareQpStorage)
-  {
-    return iteration_.qp_arenas().shared.held_by(holder);
+  bool lent_to(const void* holder) const {
+    if constexpr (Cfg::kShareQpStorage) {
+      return iteration_.qp_arenas().shared.held_by(holder);
+    } else {
+      return false;
+    }
   }
 
   // Read-only views for tools (planner_cli, plots): the last cycle's stages.
