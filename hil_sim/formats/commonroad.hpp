@@ -14,6 +14,35 @@
 
 namespace hil::formats::commonroad {
 
+// Input limits (docs/commonroad.md, "Input limits"): a file beyond one is refused
+// with an error naming the element and the limit. Real scenarios stay far
+// below them (the dev set: bounds <= 1 195 m, routes <= 1 093 m, coordinates
+// <= 5 939 m); each one bounds what a file built to defeat the importer costs.
+namespace limits {
+// [m] |x| and |y| of every point (the reader): a projection of any place on
+// Earth stays within 4 * 10^7 m (UTM northings reach 10^7). Keeps all geometry
+// finite (squared differences < 10^17), whatever the file holds.
+inline constexpr double kMaxCoordinate = 1.0e8;
+// [m] the length of a lanelet bound, the sum of its segments (the reader):
+// at most 10 km / 0.5 m = 2 * 10^4 edge samples per bound.
+inline constexpr double kMaxBoundLength = 10000.0;
+// [m] the route's reference line (sim/commonroad_route.cpp): the route is
+// wanted at most 5 km ahead, but long lanelets and the gaps between
+// successors that do not meet add to it; bounds the road edges' knots (one
+// per metre, 2 * 10^4 per edge) and so the scene's size.
+inline constexpr double kMaxRouteLength = 20000.0;
+// [m] the bounds the road is sampled from (sim/commonroad_route.cpp): each
+// route lanelet's own two and the outermost ones beside it, every bound
+// counted once. Every sample is projected onto the reference line, against
+// all of its V points: at most 4 * 10^4 m / 0.5 m = 8 * 10^4 samples, plus
+// one per segment of those bounds (P points), so at most (8 * 10^4 + P) * V
+// segment tests. A point takes >= 31 bytes of XML, so a 16 KB file (the
+// fuzzer's) has P, V < 530: < 4.3 * 10^7 tests, about 1.5 s of CPU in the
+// fuzz build (ASan, UBSan). 40 km is a road of four 10 km bounds; a real
+// 5 km route with its outer bounds has about 20 km (DEU_A9: 3.3 km).
+inline constexpr double kMaxRoadBoundLength = 40000.0;
+}  // namespace limits
+
 struct Vec2 {
   double x = 0.0;  // [m]
   double y = 0.0;  // [m]

@@ -90,8 +90,32 @@ class Reader {
     return true;
   }
 
+  // One coordinate of a point, within limits::kMaxCoordinate.
+  bool coordinate(xml_node n, const char* axis, const std::string& where, double& out) {
+    if (!number(n, axis, where, out)) return false;
+    if (std::fabs(out) > limits::kMaxCoordinate) {
+      return fail(n.child(axis), where,
+                  fmt::format("<{}> {} m lies beyond the importer's coordinate limit |{}| <= {:g} m", axis, out, axis,
+                              limits::kMaxCoordinate));
+    }
+    return true;
+  }
+
   bool point(xml_node n, const std::string& where, Vec2& p) {
-    return number(n, "x", where, p.x) && number(n, "y", where, p.y);
+    return coordinate(n, "x", where, p.x) && coordinate(n, "y", where, p.y);
+  }
+
+  // A lanelet bound: >= 2 points, at most limits::kMaxBoundLength long.
+  bool bound(xml_node n, const std::string& where, std::vector<Vec2>& out) {
+    if (!points(n, where, 2, out)) return false;
+    double length = 0.0;
+    for (std::size_t i = 0; i + 1 < out.size(); ++i) length += std::hypot(out[i + 1].x - out[i].x, out[i + 1].y - out[i].y);
+    if (length > limits::kMaxBoundLength) {
+      return fail(n, where,
+                  fmt::format("{:.1f} m long; the importer's limit for a lanelet bound is {:g} m", length,
+                              limits::kMaxBoundLength));
+    }
+    return true;
   }
 
   bool points(xml_node parent, const std::string& where, std::size_t at_least, std::vector<Vec2>& out) {
@@ -261,7 +285,7 @@ class Reader {
     const xml_node right = n.child("rightBound");
     if (!left) return fail(n, where, "<leftBound> missing");
     if (!right) return fail(n, where, "<rightBound> missing");
-    if (!points(left, where + ": leftBound", 2, l.left_bound) || !points(right, where + ": rightBound", 2, l.right_bound)) {
+    if (!bound(left, where + ": leftBound", l.left_bound) || !bound(right, where + ": rightBound", l.right_bound)) {
       return false;
     }
     for (const char* kind : {"predecessor", "successor"}) {

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <set>
 #include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -25,8 +26,10 @@ constexpr double kMaxTurnPerPoint = std::numbers::pi / 4;  // [rad] sharper kink
 constexpr int kMaxLanesAcross = 16;           // neighbours walked on each side, at most
 constexpr int kMaxGoalSearch = 200;           // lanelets searched for a goal from a branch
 // Points inserted into one polyline segment, at most: 10 km at 0.5 m. A longer
-// segment (no road has one; a corrupted file may) is sampled more coarsely
-// instead of overflowing the count (found by fuzz_commonroad: 1e10 m).
+// segment (no road has one; the reader refuses a bound longer than
+// limits::kMaxBoundLength, but build_route may be given any Scenario) is
+// sampled more coarsely instead of overflowing the count (found by
+// fuzz_commonroad before the limits: 1e10 m).
 constexpr double kMaxDensifiedSteps = 20000;
 
 Point2 to_point(const cr::Vec2& v) { return {v.x, v.y}; }
@@ -248,7 +251,11 @@ const std::vector<cr::Vec2>* outer_bound(const Network& net, const cr::Lanelet& 
 }
 
 // Dense (s, l) samples of a polyline projected onto the reference line, in
-// the polyline's order.
+// the polyline's order: a bound of length L with m segments gives at most
+// L / kEdgeSampleSpacing + m + 1 samples, each tested against every segment
+// of the reference line. The road's cost is bounded by cr::limits (its bounds,
+// each projected once, total at most kMaxRoadBoundLength: at most
+// 8 * 10^4 + P samples for P bound points; see formats/commonroad.hpp).
 std::vector<EdgeSample> projected_samples(const std::vector<Point2>& reference, const std::vector<Point2>& line) {
   std::vector<EdgeSample> out;
   for (const Point2& p : densified(line, kEdgeSampleSpacing)) {
@@ -285,16 +292,34 @@ void append_within_gaps(const std::vector<EdgeSample>& samples, const std::vecto
   for (const auto& hit : hits) out.push_back(samples[hit.second]);
 }
 
+// The samples of each bound the road is built from, projected onto the
+// reference line once however many route lanelets use the bound (a neighbour
+// beside several of them; the outer bound that is a lanelet's own): the cost
+// is that of the distinct bounds, which limits::kMaxRoadBoundLength bounds.
+class ProjectedBounds {
+ public:
+  explicit ProjectedBounds(const std::vector<Point2>& reference) : reference_(reference) {}
+  const std::vector<EdgeSample>& operator()(const std::vector<cr::Vec2>& bound) {
+    auto it = samples_.find(&bound);
+    if (it == samples_.end()) it = samples_.emplace(&bound, projected_samples(reference_, to_points(bound))).first;
+    return it->second;
+  }
+
+ private:
+  const std::vector<Point2>& reference_;
+  std::map<const std::vector<cr::Vec2>*, std::vector<EdgeSample>> samples_;
+};
+
 // The outer-bound samples of one route lanelet over its range [lo, hi], with
 // any stretch that the outer bound does not cover (a neighbour shorter than
 // the route lanelet) filled from the route lanelet's own bound on that side.
 // The own bound is projected once for all gaps: a sparse outer bound has a gap
 // between every two samples (fuzz_commonroad: a 40 km bound took a minute
-// when each gap projected it again).
-std::vector<EdgeSample> side_samples(const std::vector<Point2>& reference, const std::vector<Point2>& outer,
-                                     const std::vector<Point2>& own, double lo, double hi) {
+// when each gap projected it again), and only when there is a gap.
+std::vector<EdgeSample> side_samples(ProjectedBounds& projected, const std::vector<cr::Vec2>& outer,
+                                     const std::vector<cr::Vec2>& own, double lo, double hi) {
   std::vector<EdgeSample> out;
-  append_within(projected_samples(reference, outer), lo, hi, out);
+  append_within(projected(outer), lo, hi, out);
   std::sort(out.begin(), out.end(), [](const EdgeSample& a, const EdgeSample& b) { return a.s < b.s; });
   std::vector<Gap> gaps;
   double covered = lo;
@@ -304,8 +329,7 @@ std::vector<EdgeSample> side_samples(const std::vector<Point2>& reference, const
   }
   if (hi - covered > 2 * kEdgeSampleSpacing) gaps.emplace_back(covered, hi);
   if (gaps.empty()) return out;
-  const std::vector<EdgeSample> own_samples = projected_samples(reference, own);
-  append_within_gaps(own_samples, gaps, out);
+  append_within_gaps(projected(own), gaps, out);
   return out;
 }
 
@@ -513,26 +537,66 @@ RouteResult build_route(const cr::Scenario& sc, const Pose& ego, const RouteOpti
     return res;
   }
   const std::vector<double> arc = polyline_arc_lengths(route.reference_line);
+  if (arc.back() > cr::limits::kMaxRouteLength) {
+    res.error = fmt::format(
+        "lanelet {}: the route from the ego's lanelet through {} lanelets ({} to {}) is {:.1f} m long; the importer's "
+        "limit for a route is {:g} m",
+        ego_l->id, lanes.size(), lanes.front()->id, lanes.back()->id, arc.back(), cr::limits::kMaxRouteLength);
+    return res;
+  }
 
-  // The drivable area across each route lanelet, over its s-range.
-  std::vector<EdgeSample> left_samples, right_samples;
+  // The outermost bounds on each side of each route lanelet, and the bounds
+  // the road is built from within their limit.
+  std::vector<std::pair<const std::vector<cr::Vec2>*, const std::vector<cr::Vec2>*>> outer;
   std::set<long> road(route.lanelets.begin(), route.lanelets.end());
   for (const cr::Lanelet* l : lanes) {
-    const std::vector<Point2>& c = net.centre(*l);
-    const double lo = project_to_polyline(route.reference_line, c.front().x, c.front().y).s;
-    const double hi = project_to_polyline(route.reference_line, c.back().x, c.back().y).s;
     const auto* outer_left = outer_bound(net, *l, true, opt.opposite_lanes, road, error);
     const auto* outer_right = outer_bound(net, *l, false, opt.opposite_lanes, road, error);
     if (!outer_left || !outer_right) {
       res.error = error;
       return res;
     }
-    for (const auto& e : side_samples(route.reference_line, to_points(*outer_left), to_points(l->left_bound), lo, hi)) {
-      left_samples.push_back(e);
+    outer.emplace_back(outer_left, outer_right);
+  }
+  std::set<const std::vector<cr::Vec2>*> bounds;
+  double bounds_length = 0.0;
+  const std::vector<cr::Vec2>* longest = nullptr;
+  double longest_length = 0.0;
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    for (const auto* b : {outer[i].first, outer[i].second, &lanes[i]->left_bound, &lanes[i]->right_bound}) {
+      if (!bounds.insert(b).second) continue;
+      const double length = length_of(to_points(*b));
+      bounds_length += length;
+      if (length > longest_length) {
+        longest = b;
+        longest_length = length;
+      }
     }
-    for (const auto& e : side_samples(route.reference_line, to_points(*outer_right), to_points(l->right_bound), lo, hi)) {
-      right_samples.push_back(e);
+  }
+  if (bounds_length > cr::limits::kMaxRoadBoundLength) {
+    std::string which;
+    for (const cr::Lanelet& l : sc.lanelets) {
+      if (longest == &l.left_bound || longest == &l.right_bound) {
+        which = fmt::format("lanelet {} {}", l.id, longest == &l.left_bound ? "leftBound" : "rightBound");
+      }
     }
+    res.error = fmt::format(
+        "lanelet {}: the road along the route is built from {} lanelet bounds (the route lanelets' own and the "
+        "outermost ones beside them) of {:.1f} m in all, the longest {}, {:.1f} m; the importer's limit is {:g} m",
+        ego_l->id, bounds.size(), bounds_length, which, longest_length, cr::limits::kMaxRoadBoundLength);
+    return res;
+  }
+
+  // The drivable area across each route lanelet, over its s-range.
+  std::vector<EdgeSample> left_samples, right_samples;
+  ProjectedBounds projected(route.reference_line);
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    const cr::Lanelet* l = lanes[i];
+    const std::vector<Point2>& c = net.centre(*l);
+    const double lo = project_to_polyline(route.reference_line, c.front().x, c.front().y).s;
+    const double hi = project_to_polyline(route.reference_line, c.back().x, c.back().y).s;
+    for (const auto& e : side_samples(projected, *outer[i].first, l->left_bound, lo, hi)) left_samples.push_back(e);
+    for (const auto& e : side_samples(projected, *outer[i].second, l->right_bound, lo, hi)) right_samples.push_back(e);
   }
   if (left_samples.empty() || right_samples.empty()) {
     res.error = fmt::format("lanelet {}: the bounds of the route's lanelets do not project onto its centre line", ego_l->id);

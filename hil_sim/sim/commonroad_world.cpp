@@ -21,7 +21,7 @@ namespace cr = formats::commonroad;
 constexpr double kRouteBehind = 30.0;            // [m] of reference line wanted behind the ego
 constexpr double kRouteBeyondRun = 200.0;        // [m] wanted beyond the ego's reach
 constexpr double kFastestTraffic = 40.0;         // [m/s] the reach: duration at this speed
-constexpr double kMaxRouteLength = 5000.0;       // [m]
+constexpr double kMaxRouteAhead = 5000.0;        // [m] of route wanted ahead, at most
 constexpr double kMaxEgoKappa = 0.2;             // [1/m] the planner's default kappa_max
 constexpr double kMinSpeedForKappa = 1.0;        // [m/s] below, yaw rate says nothing of the path
 constexpr double kShiftAbove = 5.0e4;            // [m] coordinates beyond are shifted (planner: |x| <= 1e5)
@@ -327,7 +327,7 @@ CommonRoadImport map_commonroad(const cr::Scenario& sc, const CommonRoadOptions&
   RouteOptions ro;
   ro.opposite_lanes = opt.opposite_lanes;
   ro.length_behind = kRouteBehind;
-  ro.length_ahead = std::min(kMaxRouteLength, kRouteBeyondRun + kFastestTraffic * duration);
+  ro.length_ahead = std::min(kMaxRouteAhead, kRouteBeyondRun + kFastestTraffic * duration);
   for (const cr::GoalState& g : problem->goals) {
     ro.goal_lanelets.insert(ro.goal_lanelets.end(), g.lanelets.begin(), g.lanelets.end());
     for (const cr::Vec2& c : g.area_centres) {

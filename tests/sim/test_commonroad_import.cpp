@@ -439,6 +439,86 @@ TEST_CASE("import errors name the element (and its line where it has one)") {
   CHECK(import_error(x::scenario(road + no_v)).find("initialState: <velocity> missing") != std::string::npos);
 }
 
+TEST_CASE("input limits: a bound, the route, the road's bounds and coordinates beyond them are refused naming the element") {
+  // Straight lanelets along +x with two-point bounds (no densified XML), width 4 m.
+  const auto lanelet = [](long id, double x0, double x1, double y_right, const std::string& extra = "") {
+    return fmt::format("<lanelet id=\"{}\"><leftBound>{}{}</leftBound><rightBound>{}{}</rightBound>{}</lanelet>\n", id,
+                       x::point(x0, y_right + 4), x::point(x1, y_right + 4), x::point(x0, y_right), x::point(x1, y_right),
+                       extra);
+  };
+  const auto refused = [](const std::string& xml, const std::vector<std::string>& expect) {
+    CAPTURE(xml.substr(0, 400));
+    const std::string e = import_error(xml);
+    for (const std::string& part : expect) CHECK_MESSAGE(e.find(part) != std::string::npos, e);
+  };
+  const auto pp = [](double x, double y = 2.0) { return x::planning_problem(100, x, y, 0, 10); };
+
+  // A lanelet bound: at most limits::kMaxBoundLength (10 km) long.
+  REQUIRE(cr::limits::kMaxBoundLength == 10000.0);
+  import_ok(x::scenario(lanelet(1, 0, 10000, 0) + pp(10)));
+  refused(x::scenario(lanelet(1, 0, 10000.5, 0) + pp(10)),
+          {"line 3: lanelet 1: leftBound: 10000.5 m long", "the importer's limit for a lanelet bound is 10000 m"});
+  // A bound's length is the sum of its segments: 6 km out and back along x.
+  refused(x::scenario("<lanelet id=\"1\"><leftBound>" + x::point(0, 4) + x::point(100, 4) + "</leftBound><rightBound>" +
+                      x::point(0, 0) + x::point(6000, 0) + x::point(100, 0) + "</rightBound></lanelet>\n" + pp(10)),
+          {"lanelet 1: rightBound: 11900.0 m long", "limit for a lanelet bound is 10000 m"});
+
+  // Coordinates: |x|, |y| <= limits::kMaxCoordinate (1e8 m), of every point.
+  REQUIRE(cr::limits::kMaxCoordinate == 1.0e8);
+  const World remote = import_ok(x::scenario(lanelet(1, 1.0e8 - 200, 1.0e8, -1.0e8) + pp(1.0e8 - 190, -1.0e8 + 2)));
+  CHECK(remote.reference_line.size() >= 2);
+  refused(x::scenario(lanelet(1, 1.0e8 - 200, 1.0e8 + 1, 0) + pp(1.0e8 - 190)),
+          {"lanelet 1: leftBound: point 1: <x> 100000001 m lies beyond the importer's coordinate limit |x| <= 1e+08 m"});
+  refused(x::scenario(lanelet(1, 0, 200, 0) + x::planning_problem(100, 10, -2.5e8, 0, 10)),
+          {"planningProblem 100: initialState: position: <y> -250000000 m lies beyond", "|y| <= 1e+08 m"});
+
+  // The route: at most limits::kMaxRouteLength (20 km) of reference line. The
+  // ego near the end of a 10 km lanelet, the route continues through its
+  // successor (9 999 m: inside; beyond a 10 km gap: 30 km, refused).
+  REQUIRE(cr::limits::kMaxRouteLength == 20000.0);
+  const World long_route = import_ok(
+      x::scenario(lanelet(1, 0, 10000, 0, "<successor ref=\"2\"/>") + lanelet(2, 10000, 19999, 0) + pp(9900)));
+  CHECK(polyline_arc_lengths(long_route.reference_line).back() == doctest::Approx(19999.0));
+  refused(x::scenario(lanelet(1, 0, 10000, 0, "<successor ref=\"2\"/>") + lanelet(2, 20000, 30000, 0) + pp(9900)),
+          {"planningProblem 100: initialState: lanelet 1: the route from the ego's lanelet through 2 lanelets (1 to 2) is "
+           "30000.0 m long; the importer's limit for a route is 20000 m"});
+
+  // The road's bounds: at most limits::kMaxRoadBoundLength (40 km), each
+  // counted once. Route lanelets 1 and 2 (100 m each), each beside its own
+  // lanes left and right whose outer bounds are `far` long.
+  REQUIRE(cr::limits::kMaxRoadBoundLength == 40000.0);
+  const auto road = [&](double far, bool shared) {
+    const std::string a2 = shared ? "3" : "5", b2 = shared ? "4" : "6";
+    const auto beside = [&](long id, double x0, double x1, double y_right, bool left) {
+      // The outer bound runs `far` m: from x0 - (far - (x1 - x0)) / 2 to x1 + the same.
+      const double over = 0.5 * (far - (x1 - x0));
+      const cr::Vec2 o0{x0 - over, left ? y_right + 4 : y_right}, o1{x1 + over, left ? y_right + 4 : y_right};
+      const std::string outer = x::point(o0.x, o0.y) + x::point(o1.x, o1.y);
+      const std::string inner = x::point(x0, left ? y_right : y_right + 4) + x::point(x1, left ? y_right : y_right + 4);
+      return fmt::format("<lanelet id=\"{}\"><leftBound>{}</leftBound><rightBound>{}</rightBound></lanelet>\n", id,
+                         left ? outer : inner, left ? inner : outer);
+    };
+    std::string net =
+        lanelet(1, 0, 100, 0,
+                "<successor ref=\"2\"/><adjacentLeft ref=\"3\" drivingDir=\"same\"/><adjacentRight ref=\"4\" drivingDir=\"same\"/>") +
+        lanelet(2, 100, 200, 0,
+                fmt::format("<predecessor ref=\"1\"/><adjacentLeft ref=\"{}\" drivingDir=\"same\"/>"
+                            "<adjacentRight ref=\"{}\" drivingDir=\"same\"/>",
+                            a2, b2)) +
+        beside(3, 0, 100, 4, true) + beside(4, 0, 100, -4, false);
+    if (!shared) net += beside(5, 100, 200, 4, true) + beside(6, 100, 200, -4, false);
+    return x::scenario(net + pp(10));
+  };
+  // 4 x 9 900 m + the route lanelets' own 4 x 100 m = 40 000 m: inside.
+  const World wide = import_ok(road(9900, false));
+  CHECK(wide.road.left_boundary.at(50) == doctest::Approx(6.0));
+  CHECK(wide.road.right_boundary.at(150) == doctest::Approx(-6.0));
+  refused(road(9901, false), {"planningProblem 100: initialState: lanelet 1: the road along the route is built from 8 lanelet bounds",
+                              "of 40004.0 m in all, the longest lanelet 3 leftBound, 9901.0 m; the importer's limit is 40000 m"});
+  // The same 10 km neighbours beside both route lanelets count once: 20 400 m.
+  import_ok(road(10000, true));
+}
+
 TEST_CASE("scenes load by extension or content: scene/1 JSON, or CommonRoad XML imported on the fly") {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "itp_test_scene_files";
   std::filesystem::create_directories(dir);
