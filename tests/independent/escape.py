@@ -235,6 +235,25 @@ def best_witness(scene, offset, accels=(0.5, 1.0, 1.5, 2.0, 2.5, 3.0),
     return best
 
 
+def avoidability(scene):
+    """For a scene that ended in a collision: was any motion along the lane collision-free
+    from the start? {"avoidable": bool, "empty_at": t or None, "blockers": ids,
+    "witness": {accel, start, min_distance} or None}; `avoidable` is True only with a
+    witness (an exact replay), False only when the over-approximated set runs empty."""
+    line = Polyline(scene["reference_line"])
+    _s, l_ego, _th, _ = line.project(scene["ego"]["x"], scene["ego"]["y"])
+    r = escape(scene, l_ego)
+    out = {"avoidable": None, "empty_at": r["empty_at"], "blockers": r["blockers"], "witness": None}
+    if r["empty_at"] is not None:
+        out["avoidable"] = False
+        return out
+    w = best_witness(scene, l_ego)
+    if w is not None:
+        out["avoidable"] = True
+        out["witness"] = {"accel": w[0], "start": w[1], "min_distance": w[2]}
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scene", help="scene/1 JSON (e.g. from `hil_sim import FILE.xml`)")

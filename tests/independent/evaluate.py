@@ -20,6 +20,7 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from escape import avoidability  # noqa: E402
 from geom import (Polyline, boundary_at, boxes_overlap, classify_contact,  # noqa: E402
                   ego_box, obstacle_boxes_at)
 
@@ -186,6 +187,8 @@ def scene_record(scene, rep, cycles):
         "cycles": len(cycles),
         "collision": bool(rep["collisions"]),
         "collision_detail": first_collision(scene, cycles) if rep["collisions"] else None,
+        # was any motion along the lane collision-free from the start? (escape.py)
+        "avoidable_in_lane": avoidability(scene) if rep["collisions"] else None,
         "road_departure": bool(rep["road_departures"]),
         "max_road_excess_m": round(rep.get("max_road_excess_m", 0.0), 3),
         "fallbacks": sum(reasons.values()),
@@ -344,7 +347,7 @@ def main(argv=None):
               if args.hil_sim.startswith(REPO) else args.hil_sim,
               "overall": overall, "per_archetype": summary_by_arch,
               "worst": [{k: r[k] for k in ("name", "file", "archetype", "collision",
-                                           "collision_detail", "road_departure", "stuck",
+                                           "collision_detail", "avoidable_in_lane", "road_departure", "stuck",
                                            "fallbacks", "fallback_reasons", "first_fallback",
                                            "ends_behind", "max_abs_lat_acc",
                                            "min_a_lon", "progress_m", "final_v")}
@@ -358,8 +361,11 @@ def main(argv=None):
             f.write(text)
     print(text)
     for r in result["worst"]:
-        print("worst: %-45s coll=%s depart=%s stuck=%s fallbacks=%d %s" % (
+        avoid = r["avoidable_in_lane"] or {}
+        print("worst: %-45s coll=%s%s depart=%s stuck=%s fallbacks=%d %s" % (
             r["name"], (r["collision_detail"] or {}).get("who", "-") if r["collision"] else "-",
+            {True: " (avoidable in lane)", False: " (unavoidable in lane)"}.get(
+                avoid.get("avoidable"), ""),
             r["road_departure"], r["stuck"], r["fallbacks"], r["fallback_reasons"]))
 
 
