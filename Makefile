@@ -47,7 +47,7 @@ FUZZ_SECONDS ?= 60
 FUZZ_PRESET ?= fuzz
 FUZZ_OPTS ?= -max_total_time=$(FUZZ_SECONDS)
 
-.PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean fuzz fuzz-build wcet wcet-measure
+.PHONY: help deps test sim host-debug host-release cortex-m7 size stack clean fuzz fuzz-build wcet wcet-measure wcet-link
 
 help:
 	@echo "make sim    - build everything and run the simulator against the Cortex-M7 firmware under QEMU"
@@ -61,6 +61,7 @@ help:
 	@echo "make wcet   - the derived worst case per cycle: budgets x measured cost per unit, measured maxima"
 	@echo "              (WCET_IMAGE=f32: the float low-RAM image's; also for wcet-measure)"
 	@echo "make wcet-measure - measure the costs per unit under QEMU (default + stress suite, long)"
+	@echo "make wcet-link - measure the link's share of a cycle (frames, MACs, decode, encode) under QEMU"
 	@echo "make fuzz   - run every libFuzzer target for FUZZ_SECONDS seconds (default 60);"
 	@echo "              FUZZ_PRESET=fuzz-long (no ASan) and FUZZ_OPTS=-runs=10000000 for long runs"
 
@@ -104,15 +105,26 @@ ifeq ($(WCET_IMAGE),f32)
 WCET_ELF := $(F32_FIRMWARE_ELF)
 WCET_SIZES := LowRamSizes
 WCET_COSTS := tools/wcet_costs_f32.json
+WCET_LINK_IMAGE := f32
 WCET_OUT ?= build/wcet-f32
 else
 WCET_ELF := $(FIRMWARE_ELF)
 WCET_SIZES := DefaultSizes
 WCET_COSTS := tools/wcet_costs.json
+WCET_LINK_IMAGE := production
 WCET_OUT ?= build/wcet
 endif
 wcet:
-	@python3 tools/wcet_table.py --sizes $(WCET_SIZES) table --costs $(WCET_COSTS)
+	@python3 tools/wcet_table.py --sizes $(WCET_SIZES) table --costs $(WCET_COSTS) --link-image $(WCET_LINK_IMAGE)
+
+# The link's share of a firmware cycle besides planning (frames in and out, the
+# two MACs, Scene decoding and validation, Plan encoding) at each image's largest
+# Scene and Plan, measured under QEMU by the crypto_bench images into
+# tools/wcet_link_costs.json; `make wcet` adds it to the planner's bound.
+wcet-link: cortex-m7
+	python3 tools/wcet_table.py link --image production --elf build/cortex-m7/port/itp_crypto_bench_mps2_an500.elf
+	python3 tools/wcet_table.py link --image road --elf build/cortex-m7/port/itp_crypto_bench_mps2_an500_road.elf
+	python3 tools/wcet_table.py link --image f32 --elf build/cortex-m7/port/itp_crypto_bench_mps2_an500_f32.elf
 
 # Re-measure the costs per unit and the maxima under QEMU (-icount): the default
 # suite and the stress suite (10 static + 5 dynamic obstacles). WCET_COUNT=200
@@ -128,7 +140,7 @@ wcet-measure: host-release cortex-m7
 	python3 tools/wcet_table.py --sizes $(WCET_SIZES) measure --out $(WCET_COSTS) \
 	  --default $(WCET_OUT)/default.jsonl --stress $(WCET_OUT)/stress.jsonl \
 	  --note "$(notdir $(WCET_ELF)): default suite seed 1 x $(WCET_COUNT) scenes, stress suite seed 1 x $(WCET_STRESS_COUNT) scenes"
-	python3 tools/wcet_table.py --sizes $(WCET_SIZES) table --costs $(WCET_COSTS)
+	python3 tools/wcet_table.py --sizes $(WCET_SIZES) table --costs $(WCET_COSTS) --link-image $(WCET_LINK_IMAGE)
 
 size: cortex-m7
 	@echo "== ARM size report: $(FIRMWARE_ELF) (production image)"

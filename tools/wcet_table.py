@@ -19,12 +19,20 @@ Two steps, Python standard library only:
            with --sizes a configuration's overrides of them) and
            the JSON, print budget x cost per unit per stage, the derived bound
            (with the stated margin on every measured cost) and the measured
-           maxima on the default and the stress suite.
+           maxima on the default and the stress suite. With the link's share
+           (below), also the bound of a whole firmware cycle.
+
+  link     Run a crypto_bench image under QEMU and keep its measurement of
+           the link's share of a cycle at the largest Scene and Plan (frames
+           in, MAC check, decode and validation, Plan encoding, MAC, frames
+           out: everything the service does besides planning) in
+           tools/wcet_link_costs.json, under the image's name.
 """
 import argparse
 import json
 import math
 import re
+import subprocess
 import sys
 from pathlib import Path
 
@@ -32,6 +40,7 @@ ROOT = Path(__file__).resolve().parent.parent
 CONFIG = ROOT / "firmware_core/include/itp/config.hpp"
 CONFIGURATIONS = ROOT / "firmware_core/include/itp/configurations.hpp"
 COSTS = ROOT / "tools/wcet_costs.json"
+LINK_COSTS = ROOT / "tools/wcet_link_costs.json"
 INSTRUCTIONS_PER_TICK = 40  # port/mps2: the QEMU timer's 25 MHz at -icount shift=0 (1 GHz virtual)
 
 # stage: (label, cost(work, cycle), [(unit key, budget name), ...])
@@ -193,7 +202,9 @@ def table(args):
     margin = costs["margin"]
     print(f"Derived worst case per planning cycle (Cortex-M7 instructions, QEMU -icount; "
           f"measured costs x {margin:g} margin)")
-    print(f"budgets: {args.config} ({args.sizes}); costs: {args.costs}")
+    config = Path(args.config).resolve()
+    shown = config.relative_to(ROOT) if config.is_relative_to(ROOT) else config
+    print(f"budgets: {shown} ({args.sizes}); costs: {args.costs}")
     print()
     print(f"{'stage':<10} {'unit':<18} {'budget':>7} {'cost/unit':>11} {'product':>11}   {'max seen (units)':>16}")
     total = 0.0
@@ -241,6 +252,15 @@ def table(args):
     total += qp_fixed + min(qp_stages, qp_cap)
     print()
     print(f"{'derived bound per cycle':<50} {fmt_m(total):>11}   (acceptance <= 40 M, goal 20 M)")
+    link = read_link_share(args)
+    if link is not None:
+        share = margin * link["link_share_instructions"]
+        print(f"{'  + link share at the largest messages':<50} {fmt_m(share):>11}"
+              f"   (measured {fmt_m(link['link_share_instructions']).strip()} x {margin:g}, {args.link_image}: "
+              f"Scene {link['link_scene_body_bytes']} B in {link['link_frames_in_per_cycle']} frames, "
+              f"Plan {link['link_plan_body_bytes']} B in {link['link_frames_out_per_cycle']})")
+        print(f"{'derived bound per firmware cycle':<50} {fmt_m(total + share):>11}"
+              f"   (the planner's + the link's: request in .. reply out)")
     for name, m in costs.get("measured", {}).items():
         wc = m["worst_cycle"]
         print(f"measured max, {name:<8} suite ({m['cycles']} cycles): {fmt_m(m['max']).strip()}"
@@ -262,6 +282,43 @@ def table(args):
     return 0 if total <= 40e6 else 1
 
 
+def read_link_share(args):
+    """The image's link share (the `link` step's JSON), None when not measured."""
+    path = Path(getattr(args, "link_costs", LINK_COSTS))
+    if not path.exists():
+        return None
+    return json.loads(path.read_text()).get("images", {}).get(getattr(args, "link_image", "production"))
+
+
+def link(args):
+    """Run the crypto_bench ELF under QEMU until it prints "done"; keep its link_* figures."""
+    cmd = ["qemu-system-arm", "-M", "mps2-an500", "-nographic", "-monitor", "none", "-icount", "shift=0",
+           "-serial", "null", "-serial", "stdio", "-kernel", args.elf]
+    figures = {}
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True) as q:
+        try:
+            for line in q.stdout:
+                print(line.rstrip(), flush=True)
+                if line.strip() == "done":
+                    break
+                name, _, value = line.strip().partition(" ")
+                if name.startswith("link_") and value.isdigit():
+                    figures[name] = int(value)
+        finally:
+            q.kill()
+    if figures.get("link_cycles_valid", 0) == 0 or "link_share_instructions" not in figures:
+        print("wcet_table link: the image did not measure a valid cycle", file=sys.stderr)
+        return 1
+    path = Path(args.out)
+    data = json.loads(path.read_text()) if path.exists() else {"images": {}}
+    data["images"][args.image] = dict(figures, elf=Path(args.elf).name)
+    data["note"] = ("instructions under qemu-system-arm -M mps2-an500 -icount shift=0 (one per virtual ns); "
+                    "port/common/image_crypto_bench.cpp, bench_link_share")
+    path.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+    print(f"wrote {path} ({args.image}: link share {fmt_m(figures['link_share_instructions']).strip()})")
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--config", default=str(CONFIG))
@@ -277,10 +334,18 @@ def main():
     m.add_argument("--note", default="")
     t = sub.add_parser("table", help="print the table (default)")
     t.add_argument("--costs", default=str(COSTS))
+    t.add_argument("--link-costs", default=str(LINK_COSTS), help="the link step's JSON")
+    t.add_argument("--link-image", default="production", help="whose link share to add (production, road, f32)")
+    k = sub.add_parser("link", help="measure the link's share of a cycle under QEMU (a crypto_bench ELF)")
+    k.add_argument("--elf", required=True)
+    k.add_argument("--image", required=True, help="the name it is kept under (production, road, f32)")
+    k.add_argument("--out", default=str(LINK_COSTS))
     args = ap.parse_args()
     if args.cmd == "measure":
         measure(args)
         return 0
+    if args.cmd == "link":
+        return link(args)
     if args.cmd is None:
         args.costs = str(COSTS)
     return table(args)
