@@ -5,6 +5,8 @@
 # executions, time, coverage (edges and features), and the corpus size.
 # usage: tests/fuzz/run_fuzzers.sh BUILD_DIR [libFuzzer options...]
 #   FUZZ_TARGETS="fuzz_frame_decoder fuzz_service_raw" to run only some.
+#   With -fork=N (libFuzzer's fork mode: N worker processes, one corpus) the
+#   executions and the time are those of the whole run, all workers together.
 set -u
 build=${1:?usage: run_fuzzers.sh BUILD_DIR [options]}
 shift
@@ -32,6 +34,10 @@ for t in $targets; do
   rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   secs=$(sed -n 's/^Done [0-9]* runs in \([0-9]*\) second.*/\1/p' "$log" | tail -1)
+  # Fork mode: the parent's own summary lines.
+  [ -n "$execs" ] || execs=$(sed -n 's/^INFO: fuzzed for \([0-9]*\) iterations.*/\1/p' "$log" | tail -1)
+  [ -n "$execs" ] || execs=$(grep -E '^#[0-9]+: cov:' "$log" | tail -1 | sed -n 's/^#\([0-9]*\):.*/\1/p')
+  [ -n "$secs" ] || secs=$(sed -n 's/^INFO: exiting: .* time: \([0-9]*\)s.*/\1/p' "$log" | tail -1)
   cov=$(grep -E '^#[0-9]+' "$log" | tail -1 | sed -n 's/.*cov: \([0-9]*\) ft: \([0-9]*\) corp: \([0-9]*\).*/edges \1, features \2, corpus \3/p')
   printf '%-22s rc %d  executions %s  seconds %s  %s  (log %s)\n' "$t" "$rc" "${execs:-?}" "${secs:-?}" "${cov:-?}" "$log"
   [ $rc -eq 0 ] || status=1
