@@ -306,11 +306,23 @@ def link(args):
                     figures[name] = int(value)
         finally:
             q.kill()
-    if figures.get("link_cycles_valid", 0) == 0 or "link_share_instructions" not in figures:
-        print("wcet_table link: the image did not measure a valid cycle", file=sys.stderr)
+    if (figures.get("link_cycles_valid", 0) == 0 or figures.get("link_cycles_valid") != figures.get("link_cycles")
+            or "link_share_instructions" not in figures):
+        print("wcet_table link: not every measured cycle authenticated and validated", file=sys.stderr)
         return 1
     path = Path(args.out)
     data = json.loads(path.read_text()) if path.exists() else {"images": {}}
+    if args.check:
+        # The bound adds the recorded share x margin: a build whose share grew
+        # past that no longer meets it (instruction counts under -icount are exact).
+        recorded = data["images"].get(args.image, {}).get("link_share_instructions")
+        if recorded is None:
+            print(f"wcet_table link: no recorded share for {args.image} in {path}", file=sys.stderr)
+            return 1
+        limit = args.margin * recorded
+        measured = figures["link_share_instructions"]
+        print(f"{args.image}: link share {measured} instructions, recorded {recorded} x {args.margin:g} = {limit:.0f}")
+        return 0 if measured <= limit else 1
     data["images"][args.image] = dict(figures, elf=Path(args.elf).name)
     data["note"] = ("instructions under qemu-system-arm -M mps2-an500 -icount shift=0 (one per virtual ns); "
                     "port/common/image_crypto_bench.cpp, bench_link_share")
@@ -340,6 +352,9 @@ def main():
     k.add_argument("--elf", required=True)
     k.add_argument("--image", required=True, help="the name it is kept under (production, road, f32)")
     k.add_argument("--out", default=str(LINK_COSTS))
+    k.add_argument("--check", action="store_true",
+                   help="do not record: fail when the share exceeds the recorded one x --margin")
+    k.add_argument("--margin", type=float, default=1.2, help="with --check: the margin the bound puts on it")
     args = ap.parse_args()
     if args.cmd == "measure":
         measure(args)

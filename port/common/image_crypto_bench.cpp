@@ -298,6 +298,7 @@ void bench_link_share(std::uint16_t reps) {
   report("link_plan_body_bytes", plan_body);
   report("link_frames_in_per_cycle", frames_in / reps);
   report("link_frames_out_per_cycle", frames_out / reps);
+  report("link_cycles", reps);
   report("link_cycles_valid", ok);
   report("link_receive_instructions", instructions(receive, reps));
   report("link_open_instructions", instructions(open, reps));
