@@ -32,12 +32,17 @@ for t in $targets; do
   log="$build/$t.log"
   "$build/$t" -max_len=$max_len -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 "$@" "$scratch" "${seeds[@]}" > "$log" 2>&1
   rc=$?
-  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-  secs=$(sed -n 's/^Done [0-9]* runs in \([0-9]*\) second.*/\1/p' "$log" | tail -1)
-  # Fork mode: the parent's own summary lines.
-  [ -n "$execs" ] || execs=$(sed -n 's/^INFO: fuzzed for \([0-9]*\) iterations.*/\1/p' "$log" | tail -1)
-  [ -n "$execs" ] || execs=$(grep -E '^#[0-9]+: cov:' "$log" | tail -1 | sed -n 's/^#\([0-9]*\):.*/\1/p')
-  [ -n "$secs" ] || secs=$(sed -n 's/^INFO: exiting: .* time: \([0-9]*\)s.*/\1/p' "$log" | tail -1)
+  if grep -q '^INFO: -fork=' "$log"; then
+    # Fork mode: the parent's own lines (its final stats count none of the
+    # workers' executions, and are 0 when it is interrupted).
+    execs=$(sed -n 's/^INFO: fuzzed for \([0-9]*\) iterations.*/\1/p' "$log" | tail -1)
+    [ -n "$execs" ] || execs=$(grep -E '^#[0-9]+: cov:' "$log" | tail -1 | sed -n 's/^#\([0-9]*\):.*/\1/p')
+    secs=$(sed -n 's/^INFO: exiting: .* time: \([0-9]*\)s.*/\1/p' "$log" | tail -1)
+    [ -n "$secs" ] || secs=$(grep -E '^#[0-9]+: cov:' "$log" | tail -1 | sed -n 's/.* time: \([0-9]*\)s.*/\1/p')
+  else
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+    secs=$(sed -n 's/^Done [0-9]* runs in \([0-9]*\) second.*/\1/p' "$log" | tail -1)
+  fi
   cov=$(grep -E '^#[0-9]+' "$log" | tail -1 | sed -n 's/.*cov: \([0-9]*\) ft: \([0-9]*\) corp: \([0-9]*\).*/edges \1, features \2, corpus \3/p')
   printf '%-22s rc %d  executions %s  seconds %s  %s  (log %s)\n' "$t" "$rc" "${execs:-?}" "${secs:-?}" "${cov:-?}" "$log"
   [ $rc -eq 0 ] || status=1
