@@ -14,6 +14,7 @@ planner or hil_sim.
   python3 escape.py SCENE.json [--offsets -0.5,0,0.5] [--a-min -6] [--a-max 3] [--json OUT]
 """
 import argparse
+import bisect
 import json
 import math
 import os
@@ -33,16 +34,8 @@ class LanePath:
 
     def pose(self, s):
         p, cum = self.line.p, self.line.cum
-        i = 0
-        # binary search for the segment holding s (first/last extended)
-        lo, hi = 0, len(p) - 2
-        while lo < hi:
-            mid = (lo + hi + 1) // 2
-            if cum[mid] <= s:
-                lo = mid
-            else:
-                hi = mid - 1
-        i = lo
+        # the segment holding s (the first and last extended)
+        i = min(max(bisect.bisect_right(cum, s) - 1, 0), len(p) - 2)
         (ax, ay), (bx, by) = p[i], p[i + 1]
         seg = max(cum[i + 1] - cum[i], 1e-9)
         f = (s - cum[i]) / seg
@@ -112,6 +105,12 @@ def free_set(blocked, s_lo, s_hi):
     if at < s_hi:
         free.append([at, s_hi])
     return free
+
+
+def ego_offset(scene):
+    """The ego's lateral offset from its reference line (rear axle)."""
+    _s, l_ego, _th, _ = Polyline(scene["reference_line"]).project(scene["ego"]["x"], scene["ego"]["y"])
+    return l_ego
 
 
 def escape(scene, offset, a_min=-6.0, a_max=3.0, v_max=None, dt=0.1, dv=0.02, ds=0.02,
@@ -240,8 +239,7 @@ def avoidability(scene):
     from the start? {"avoidable": bool, "empty_at": t or None, "blockers": ids,
     "witness": {accel, start, min_distance} or None}; `avoidable` is True only with a
     witness (an exact replay), False only when the over-approximated set runs empty."""
-    line = Polyline(scene["reference_line"])
-    _s, l_ego, _th, _ = line.project(scene["ego"]["x"], scene["ego"]["y"])
+    l_ego = ego_offset(scene)
     r = escape(scene, l_ego)
     out = {"avoidable": None, "empty_at": r["empty_at"], "blockers": r["blockers"], "witness": None}
     if r["empty_at"] is not None:
@@ -269,8 +267,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     with open(args.scene) as f:
         scene = json.load(f)
-    line = Polyline(scene["reference_line"])
-    _s, l_ego, _th, _ = line.project(scene["ego"]["x"], scene["ego"]["y"])
+    l_ego = ego_offset(scene)
     results = []
     for d in (float(x) for x in args.offsets.split(",")):
         r = escape(scene, l_ego + d, a_min=args.a_min, a_max=args.a_max, t0=args.t0)
