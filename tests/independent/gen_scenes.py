@@ -59,6 +59,11 @@ def follow_gap_needed(v_ego, v_lead, lead_decel=0.0):
     return 4.0 + 0.8 * v_ego + dv * 0.8 + dv * dv / 5.0
 
 
+def time_gap_floor(v_ego):
+    """The least bumper gap a reasonable driver keeps, whatever a rule allows: 1.2 s + 4 m."""
+    return 1.2 * v_ego + 4.0
+
+
 def cut_in_gap_needed(v_ego, v_cut, lead_decel=0.0):
     """Bumper gap a cut-in must leave when its body enters the ego's lane: the follow gap;
     for one that will brake, never under a 1.2 s time gap + 4 m (the README's rule, the
@@ -66,7 +71,7 @@ def cut_in_gap_needed(v_ego, v_cut, lead_decel=0.0):
     gently (27 m/s at 2.7 m/s^2 ahead of a 30 m/s ego: -4 m), which put the cutter of
     seed 7's scene 24 beside the ego."""
     gap = follow_gap_needed(v_ego, v_cut, lead_decel)
-    return max(gap, 1.2 * v_ego + 4.0) if lead_decel > 0.0 else gap
+    return max(gap, time_gap_floor(v_ego)) if lead_decel > 0.0 else gap
 
 
 def vehicle_size(rng, lane_width):
@@ -518,8 +523,7 @@ def place_leader(sc, v_lead, lead_decel=0.0, factor=(1.2, 2.5)):
     """Bumper gap from the ego to a leader starting ahead in the ego's lane."""
     v_ego = max(sc.v0, v_lead)
     gap = follow_gap_needed(v_ego, v_lead, lead_decel) * sc.rng.uniform(*factor)
-    # a reasonable driver keeps at least a 1.2 s time gap, whatever the rule allows
-    return max(gap, 8.0, 1.2 * v_ego + 4.0)
+    return max(gap, 8.0, time_gap_floor(v_ego))
 
 
 def arch_slow_leader(sc):

@@ -1,7 +1,6 @@
 #!/usr/bin/env python3
 """Tests of gen_scenes.py's placement rules, measured on the scenes it writes:
 python3 test_gen_rules.py"""
-import math
 import os
 import random
 import sys
@@ -10,6 +9,8 @@ import unittest
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import gen_scenes  # noqa: E402
 from geom import Polyline, dynamic_pose  # noqa: E402
+
+BUILDS = {name: build for name, _, build in gen_scenes.ARCHETYPES}
 
 
 def cut_in_gaps(scene):
@@ -68,16 +69,15 @@ class Written(unittest.TestCase):
 
     def test_seed7_scene_24(self):
         # judge-s7-mix-024: before the floor the cutter entered beside the ego (gap < 0).
-        build = dict((n, b) for n, _, b in gen_scenes.ARCHETYPES)["cut_in_brake"]
-        scene, _ = gen_scenes.generate_one(7 * 100003, 24, "judge-s7-mix-024-cut_in_brake", build)
+        scene, _ = gen_scenes.generate_one(7 * 100003, 24, "judge-s7-mix-024-cut_in_brake",
+                                           BUILDS["cut_in_brake"])
         self.assertEqual(scene["judge"]["params"]["decel"], 2.7)  # the same draw as before
         self.check(scene)
 
     def test_generated_cut_ins(self):
-        builds = dict((n, b) for n, _, b in gen_scenes.ARCHETYPES)
         for i in range(6):
             for kind in ("cut_in", "cut_in_brake"):
-                scene = builds[kind](random.Random("gap/%d/%s" % (i, kind)), "t-%d-%s" % (i, kind)).to_json()
+                scene = BUILDS[kind](random.Random("gap/%d/%s" % (i, kind)), "t-%d-%s" % (i, kind)).to_json()
                 self.check(scene)
 
 
