@@ -76,6 +76,7 @@ bool fits(const hil::formats::QpText& qp, int bandwidth, int row_nnz) {
 struct Options {
   int repeat = 1;
   bool warm = false, hot = false, json = false, check = false;
+  bool general_only = false;  // --no-chain: skip the chain solver (A/B runs)
   double tolerance = 1e-6;
   itp::qp::QpSettings<double> settings;
   std::string references;
@@ -117,7 +118,17 @@ Outcome solve_once(Solver<D>& s, const Input& in, const Options& opt) {
   const bool hot = opt.hot && same_matrices(s.previous_qp, in.qp) && s.ws.factored;
   const bool warm = (opt.warm || opt.hot) && !hot && same_shape && s.have_previous;
   const auto t0 = std::chrono::steady_clock::now();
-  if (hot) {
+  // As the planner's StageQp: shapes with a chain capacity solve cold starts
+  // with the chain solver first; restarts stay with the general solver.
+  auto verdict = itp::qp::ChainVerdict::kUseGeneralSolver;
+  if constexpr (D::kMaxChainLength > 0) {
+    if (!opt.general_only && !hot && !warm) {
+      verdict = itp::qp::solve_chain(s.problem, opt.settings, nullptr, s.result);
+    }
+  }
+  if (verdict == itp::qp::ChainVerdict::kSettled) {
+    out.status = s.result.status;
+  } else if (hot) {
     out.status = itp::qp::solve_hot(s.problem, s.ws, opt.settings, s.result);
   } else if (warm) {
     out.status = itp::qp::solve_warm(s.problem, s.ws, opt.settings, s.previous, s.result);
@@ -311,6 +322,9 @@ int main(int argc, char** argv) {
                "(solve_hot); other files are solved warm")
       ->excludes(warm);
   app.add_flag("--json", opt.json, "print one JSON document instead of text");
+  app.add_flag("--no-chain", opt.general_only,
+               "solve chain-form files (the coarse shape) with the general active-set solver only, "
+               "not the chain solver first");
   app.add_flag("--check", opt.check,
                "exit 1 unless every file is optimal with KKT residual and reference deviations <= "
                "--tolerance (relative to 1 + |data|)");

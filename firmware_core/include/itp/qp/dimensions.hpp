@@ -14,9 +14,13 @@ namespace itp::qp {
 // M       max general constraint rows m (each row is two-sided: lbA <= a x <= ubA)
 // NnzRow  max nonzeros per constraint row (A is stored row-sparse)
 // Bw      Hessian half-bandwidth: H(i, j) == 0 whenever |i - j| > Bw
-template <typename S, int N, int M, int NnzRow, int Bw>
+// Chain   > 0: problems in chain form (chain_form.hpp) with chains of at most
+//         this many positions are tried with the chain solver first
+//         (chain_qp.hpp); 0: the general active-set solver only
+template <typename S, int N, int M, int NnzRow, int Bw, int Chain = 0>
 struct QpDims {
   using Scalar = S;
+  static constexpr int kMaxChainLength = Chain;
   static constexpr int kMaxVariables = N;
   static constexpr int kMaxRows = M;
   static constexpr int kMaxRowNonzeros = NnzRow;
@@ -47,7 +51,7 @@ struct QpDims {
   // inner solve; all inner iterations count against kMaxIterations).
   static constexpr int kMaxProximalSteps = 2 * (N + M) + 100;
 
-  static_assert(N >= 1 && M >= 0 && NnzRow >= 1 && Bw >= 0, "bad QP capacities");
+  static_assert(N >= 1 && M >= 0 && NnzRow >= 1 && Bw >= 0 && Chain >= 0 && Chain <= N, "bad QP capacities");
   static_assert(N + M < 32767, "constraint indices are stored as int16");
   static_assert(NnzRow <= N, "a row cannot have more nonzeros than variables");
   static_assert(Bw < N, "half-bandwidth must be below the variable count");
@@ -68,7 +72,8 @@ inline constexpr int kPathQpBandwidth = 5;
 inline constexpr int kSpeedQpRowNonzeros = 6;
 inline constexpr int kSpeedQpBandwidth = 5;
 // Coarse decision QP: (l_i, t_i) interleaved; second differences couple
-// sample i-1..i+1 -> half-bandwidth 4; bounds plus monotone-time rows.
+// sample i-1..i+1 -> half-bandwidth 4; bounds plus monotone-time rows. Two
+// chains of kCoarseSamples positions: solved by the chain solver first.
 inline constexpr int kCoarseQpRowNonzeros = 2;
 inline constexpr int kCoarseQpBandwidth = 4;
 
@@ -88,6 +93,6 @@ using SpeedQpDims =
     QpDims<S, Cfg::kSpeedVariables, Cfg::kSpeedQpRows, kSpeedQpRowNonzeros, kSpeedQpBandwidth>;
 template <typename S, class Cfg>
 using CoarseQpDims = QpDims<S, Cfg::kCoarseQpVariables, Cfg::kCoarseQpRows, kCoarseQpRowNonzeros,
-                            kCoarseQpBandwidth>;
+                            kCoarseQpBandwidth, Cfg::kCoarseSamples>;
 
 }  // namespace itp::qp

@@ -1,6 +1,7 @@
 #pragma once
 // Umbrella header of the sparse dual active-set QP solver (docs/qp.md).
 #include "itp/qp/certificates.hpp"
+#include "itp/qp/chain_qp.hpp"
 #include "itp/qp/dimensions.hpp"
 #include "itp/qp/kkt.hpp"
 #include "itp/qp/problem.hpp"

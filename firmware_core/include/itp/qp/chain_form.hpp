@@ -1,0 +1,126 @@
+#pragma once
+// Chain form of a QP (docs/qp.md, "Chain solver"). The variables split into
+// K interleaved chains (K = 1 or 2; x_j lies on chain j mod K at position
+// j / K); H couples only neighbours at most two places apart on one chain,
+// and every row is a link v (x_{j+K} - x_j), v > 0, between neighbours, at
+// most one per link. The coarse decision QP has this form with K = 2: l_i and
+// t_i, H of second differences, the monotone-time rows linking t_i to t_{i+1}.
+//
+// One chain's data is gathered into a ChainData: H as three diagonals, the
+// link bounds in x units (lbA / v, ubA / v), and the row behind each link.
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "itp/qp/problem.hpp"
+
+namespace itp::qp::chain {
+
+inline constexpr int kMaxStride = 2;  // K: one chain, or two interleaved ones
+
+// The stride K if `p` is in chain form with chains of at most `max_length`
+// positions, else 0. `seen` (N bytes) is scratch: the links that have a row.
+template <class D>
+int find_stride(const QpProblem<D>& p, int max_length, std::uint8_t* seen) {
+  for (int k = 1; k <= kMaxStride; ++k) {  // <= 2 strides tried
+    if ((p.n + k - 1) / k > max_length || 2 * k > D::kBandwidth) continue;
+    bool fits = true;
+    for (int i = 0; i < p.n; ++i) {  // < N rows of the band
+      for (int off = 1; off <= D::kBandwidth && off <= i; ++off) {  // <= Bw
+        const bool allowed = off % k == 0 && off <= 2 * k;
+        fits = fits && (allowed || p.h_band[i][off] == typename D::Scalar(0));
+      }
+      seen[i] = 0;
+    }
+    for (int r = 0; r < p.m && fits; ++r) {  // < M rows
+      const int j = p.a_nnz[r] == 2 ? p.a_col[r][0] : -1;
+      fits = j >= 0 && p.a_col[r][1] == j + k && p.a_val[r][1] > typename D::Scalar(0) &&
+             p.a_val[r][0] == -p.a_val[r][1] && seen[j] == 0;
+      if (fits) seen[j] = 1;
+    }
+    if (fits) return k;
+  }
+  return 0;
+}
+
+// Every K-th entry from `first` on: of a problem vector (a chain's g, lb, ub)
+// or of one band column of H (a diagonal of the chain's H). Views, not
+// copies, to keep the solver's stack frame small.
+template <class S>
+struct StridedVector {
+  const S* v = nullptr;
+  int first = 0;
+  int step = 1;
+  S operator[](int q) const { return v[first + q * step]; }
+};
+template <class S, std::size_t W>
+struct StridedBand {
+  const S (*rows)[W] = nullptr;
+  int first = 0;
+  int step = 1;
+  int column = 0;
+  S operator[](int q) const { return rows[first + q * step][column]; }
+};
+
+// One chain: positions q = 0..n-1 are the problem's variables first + q K.
+template <class D, int kMaxLength>
+struct ChainData {
+  using S = typename D::Scalar;
+  static constexpr std::size_t kLz = static_cast<std::size_t>(kMaxLength);
+  static constexpr std::size_t kBandz = static_cast<std::size_t>(D::kBandwidth + 1);
+  int n = 0;
+  int first = 0;
+  int stride = 1;
+  StridedBand<S, kBandz> h0, h1, h2;  // H(q, q), H(q + 1, q), H(q + 2, q): h1 for q + 1 < n, h2 for q + 2 < n
+  StridedVector<S> g, lb, ub;
+  S link_lo[kLz], link_hi[kLz];  // x_{q+1} - x_q in [lo, hi]; -inf / +inf: no link row
+  std::int16_t link_row[kLz];    // the row behind link q, or -1
+
+  int var(int q) const { return first + q * stride; }
+
+  // y = H x along the chain (pentadiagonal).
+  void multiply(const S* x, S* y) const {
+    for (int q = 0; q < n; ++q) y[q] = h0[q] * x[q];  // < kMaxLength
+    for (int q = 0; q + 1 < n; ++q) {                // < kMaxLength
+      y[q] += h1[q] * x[q + 1];
+      y[q + 1] += h1[q] * x[q];
+    }
+    for (int q = 0; q + 2 < n; ++q) {  // < kMaxLength
+      y[q] += h2[q] * x[q + 2];
+      y[q + 2] += h2[q] * x[q];
+    }
+  }
+};
+
+// Chain `c` of a problem in chain form with stride `k` (find_stride: the band
+// holds offset 2k). The off-diagonals are read only where the chain has them
+// (h1 below n - 1, h2 below n - 2).
+template <class D, int kMaxLength>
+void gather(const QpProblem<D>& p, int k, int c, ChainData<D, kMaxLength>& ch) {
+  using S = typename D::Scalar;
+  const S inf = std::numeric_limits<S>::infinity();
+  ch.first = c;
+  ch.stride = k;
+  ch.n = (p.n - c + k - 1) / k;
+  ch.h0 = {p.h_band, c, k, 0};
+  ch.h1 = {p.h_band, c + k, k, k};
+  ch.h2 = {p.h_band, c + 2 * k, k, 2 * k};
+  ch.g = {p.g, c, k};
+  ch.lb = {p.lb, c, k};
+  ch.ub = {p.ub, c, k};
+  for (int q = 0; q < ch.n; ++q) {  // < kMaxLength
+    ch.link_row[q] = -1;
+    ch.link_lo[q] = -inf;
+    ch.link_hi[q] = inf;
+  }
+  for (int r = 0; r < p.m; ++r) {  // < M: each row links p.a_col[r][0] to the next on its chain
+    const int j = p.a_col[r][0];
+    if (j % k != c) continue;
+    const int q = j / k;
+    ch.link_row[q] = static_cast<std::int16_t>(r);
+    ch.link_lo[q] = p.lba[r] / p.a_val[r][1];
+    ch.link_hi[q] = p.uba[r] / p.a_val[r][1];
+  }
+}
+
+}  // namespace itp::qp::chain
