@@ -9,7 +9,9 @@
 // shapes (so that a dumped planner QP is solved by exactly the instance the
 // planner runs, with its loop lengths and memory footprint), the banded host
 // shape (n <= 160, m <= 800, <= 32 nonzeros per row, H half-bandwidth <= 16)
-// and the general shape (dense H, any row, n <= 160, m <= 1200).
+// and the general shape (dense H, any row, n <= 160, m <= 1200). Like the
+// planner's StageQp, cold solves of chain-form files go to the chain solver
+// first (docs/qp.md, "Chain solver").
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -305,7 +307,9 @@ int main(int argc, char** argv) {
       "--references, and for 'infeasible' the dual ray and its check. Variants, the first that\n"
       "fits: the planner's coarse (40 x 20), speed (45 x 210) and path (63 x 400) shapes, banded\n"
       "(n <= 160, m <= 800, <= 32 nonzeros per row, H half-bandwidth <= 16), general (n <= 160,\n"
-      "m <= 1200, any structure)."};
+      "m <= 1200, any structure). Chain-form files (the coarse shape: interleaved chains with\n"
+      "difference rows, docs/qp.md \"Chain solver\") are solved cold by the chain solver first, as\n"
+      "in the planner; restarts (--warm, --hot) use the general solver."};
   std::vector<std::string> files;
   Options opt;
   auto& st = opt.settings;
