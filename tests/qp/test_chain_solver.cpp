@@ -5,6 +5,7 @@
 // to the general solver, never a wrong kOptimal.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -35,7 +36,7 @@ struct Case {
   QpResult<D> chain;
   QpResult<D> general;
   QpWorkspace<D> ws;
-  QpSettings<double> settings;
+  QpSettings<typename D::Scalar> settings;
 };
 
 // A random chain QP with a known feasible point: H = w2 D2'D2 + w1 D1'D1 +
@@ -395,4 +396,39 @@ TEST_CASE("chain solver: a StageQp of chain shape hands what the chain solver le
       CHECK(kkt_residual(ref->p, stage->result()).max() <= 1e-8);
     }
   }
+}
+
+TEST_CASE("chain solver: in float (the low-RAM image) it agrees with the general float solver") {
+  using TwoF = QpDims<float, 40, 20, 2, 4, 20>;
+  auto k = std::make_unique<Case<Two>>();
+  auto f = std::make_unique<Case<TwoF>>();
+  std::mt19937 rng(17);
+  int compared = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    build_chain(k->p, 40, 2, rng, trial % 2 == 0);
+    REQUIRE(f->p.reset(k->p.n, k->p.m));
+    for (int i = 0; i < k->p.n; ++i) {
+      for (int off = 0; off <= 4 && off <= i; ++off) f->p.h_band[i][off] = static_cast<float>(k->p.h_band[i][off]);
+      f->p.g[i] = static_cast<float>(k->p.g[i]);
+      f->p.lb[i] = static_cast<float>(k->p.lb[i]);
+      f->p.ub[i] = static_cast<float>(k->p.ub[i]);
+    }
+    for (int r = 0; r < k->p.m; ++r) {
+      for (int e = 0; e < k->p.a_nnz[r]; ++e) {
+        REQUIRE(f->p.push_row_entry(r, k->p.a_col[r][e], static_cast<float>(k->p.a_val[r][e])));
+      }
+      f->p.lba[r] = static_cast<float>(k->p.lba[r]);
+      f->p.uba[r] = static_cast<float>(k->p.uba[r]);
+    }
+    const QpStatus general = solve_cold(f->p, f->ws, f->settings, f->general);
+    const ChainVerdict v = solve_chain(f->p, f->settings, nullptr, f->chain);
+    if (v == ChainVerdict::kUseGeneralSolver || general != QpStatus::kOptimal) continue;
+    REQUIRE(f->chain.status == QpStatus::kOptimal);
+    float scale = 1.0f;
+    for (int i = 0; i < f->p.n; ++i) scale = std::max(scale, std::abs(f->p.g[i]));
+    CHECK(kkt_residual(f->p, f->chain).max() <= 1e-3f * scale);
+    CHECK(f->chain.objective == doctest::Approx(f->general.objective).epsilon(1e-4));
+    ++compared;
+  }
+  CHECK(compared >= 50);
 }

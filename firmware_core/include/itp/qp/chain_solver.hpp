@@ -11,8 +11,8 @@
 // constraints at once: the start clamps the unconstrained optimum onto the
 // feasible set and takes every constraint it clamps against as active (one
 // primal-dual active-set step), and the primal iterations then repair that
-// guess one change at a time (add the blocking constraint, or drop the one
-// with the most wrongly signed multiplier).
+// guess: add the blocking constraint, or drop the constraints whose
+// multipliers have the wrong sign (solve() says when one at a time).
 //
 // Multipliers along a segment a..b with its bound (if any) at k*
 // (stationarity r + y_bounds + sum_links y_q (e_{q+1} - e_q) = 0, r = Hx + g):
@@ -67,13 +67,6 @@ class ChainSolver {
   bool solve(int cap, int& iterations);
 
   const S* x() const { return x_; }
-  // 1/2 x'Hx + g'x along the chain.
-  S value_at(const S* x) {
-    ch_.multiply(x, r_);
-    S f = S(0);
-    for (int q = 0; q < ch_.n; ++q) f += x[q] * (S(0.5) * r_[q] + ch_.g[q]);  // < L
-    return f;
-  }
   int factorisations() const { return factorisations_; }  // equality solves, each from scratch
   // After solve() returned true (they share storage with the equality solve).
   S bound_multiplier(int q) const { return offset_[q]; }
@@ -90,6 +83,13 @@ class ChainSolver {
   bool final_check() const;
   S bound_value(int q, std::int8_t side) const { return side == kUpper ? ch_.ub[q] : ch_.lb[q]; }
   S link_value(int q, std::int8_t side) const { return side == kUpper ? ch_.link_hi[q] : ch_.link_lo[q]; }
+  // 1/2 x'Hx + g'x along the chain (r_ as scratch).
+  S value_at(const S* x) {
+    ch_.multiply(x, r_);
+    S f = S(0);
+    for (int q = 0; q < ch_.n; ++q) f += x[q] * (S(0.5) * r_[q] + ch_.g[q]);  // < L
+    return f;
+  }
 
   const ChainData<D, L>& ch_;
   const QpSettings<S>& s_;
