@@ -45,7 +45,7 @@ class ChainSolver {
   // The marks a solve starts from (a warm start's working set), before
   // solve(): independent ones are kept, the rest dropped.
   void clear_marks() {
-    for (int q = 0; q < ch_.n; ++q) {  // < L
+    for (int q = 0; q < length(); ++q) {  // < L
       bound_[q] = ch_.lb[q] == ch_.ub[q] ? kFixed : kInactive;
       link_[q] = kInactive;
     }
@@ -57,7 +57,7 @@ class ChainSolver {
   }
   void mark_link(int q, int side) {
     const std::int8_t mark = side < 0 ? kLower : kUpper;
-    if (q + 1 < ch_.n && std::isfinite(link_value(q, mark))) link_[q] = mark;
+    if (q + 1 < length() && std::isfinite(link_value(q, mark))) link_[q] = mark;
   }
 
   // Runs up to `cap` working-set changes; adds them to `iterations`. True
@@ -81,13 +81,16 @@ class ChainSolver {
   S multipliers(S& hx_scale);
   int ratio_test(S& alpha, int& kind, std::int8_t& side) const;
   bool final_check() const;
+  // The chain's length, visibly at most L (for the compiler's bounds checks
+  // as much as for the reader: gather() never makes it longer).
+  int length() const { return ch_.n < L ? ch_.n : L; }
   S bound_value(int q, std::int8_t side) const { return side == kUpper ? ch_.ub[q] : ch_.lb[q]; }
   S link_value(int q, std::int8_t side) const { return side == kUpper ? ch_.link_hi[q] : ch_.link_lo[q]; }
   // 1/2 x'Hx + g'x along the chain (r_ as scratch).
   S value_at(const S* x) {
     ch_.multiply(x, r_);
     S f = S(0);
-    for (int q = 0; q < ch_.n; ++q) f += x[q] * (S(0.5) * r_[q] + ch_.g[q]);  // < L
+    for (int q = 0; q < length(); ++q) f += x[q] * (S(0.5) * r_[q] + ch_.g[q]);  // < L
     return f;
   }
 
@@ -118,7 +121,7 @@ class ChainSolver {
 template <class D, int L>
 void ChainSolver<D, L>::independent_marks() {
   bool bounded = false;
-  for (int q = 0; q < ch_.n; ++q) {  // < L
+  for (int q = 0; q < length(); ++q) {  // < L
     const bool joined = q > 0 && link_[q - 1] != kInactive;
     if (joined && bounded && bound_[q] == kFixed) link_[q - 1] = kInactive;
     if (q == 0 || link_[q - 1] == kInactive) bounded = false;
@@ -131,7 +134,7 @@ void ChainSolver<D, L>::independent_marks() {
 template <class D, int L>
 bool ChainSolver<D, L>::equality_solve() {
   ++factorisations_;
-  const int n = ch_.n;
+  const int n = length();
   int segments = 0;
   S offset = S(0);
   for (int q = 0; q < n; ++q) {  // < L: segments, offsets, fixed values
@@ -212,19 +215,19 @@ template <class D, int L>
 int ChainSolver<D, L>::feasible_start() {
   S* reach_lo = r_;    // scratch: r_ and rhs_ are rewritten by the next solve
   S* reach_hi = rhs_;
-  reach_lo[ch_.n - 1] = ch_.lb[ch_.n - 1];
-  reach_hi[ch_.n - 1] = ch_.ub[ch_.n - 1];
-  for (int q = ch_.n - 2; q >= 0; --q) {  // < L
+  reach_lo[length() - 1] = ch_.lb[length() - 1];
+  reach_hi[length() - 1] = ch_.ub[length() - 1];
+  for (int q = length() - 2; q >= 0; --q) {  // < L
     const S lo = reach_lo[q + 1] - ch_.link_hi[q];
     const S hi = reach_hi[q + 1] - ch_.link_lo[q];
     reach_lo[q] = lo > ch_.lb[q] ? lo : ch_.lb[q];
     reach_hi[q] = hi < ch_.ub[q] ? hi : ch_.ub[q];
     if (!(reach_lo[q] <= reach_hi[q])) return -1;
   }
-  if (!(reach_lo[ch_.n - 1] <= reach_hi[ch_.n - 1])) return -1;
+  if (!(reach_lo[length() - 1] <= reach_hi[length() - 1])) return -1;
   bool prev_kept = true;  // x_{q-1} == xe_{q-1}
   int moved = 0;
-  for (int q = 0; q < ch_.n; ++q) {  // < L
+  for (int q = 0; q < length(); ++q) {  // < L
     S lo = reach_lo[q], hi = reach_hi[q];
     std::int8_t lo_by = lo == ch_.lb[q] ? std::int8_t(1) : std::int8_t(0);  // 1 bound, 2 link
     std::int8_t hi_by = hi == ch_.ub[q] ? std::int8_t(1) : std::int8_t(0);
@@ -267,7 +270,7 @@ typename D::Scalar ChainSolver<D, L>::multipliers(S& hx_scale) {
   ch_.multiply(x_, r_);
   S residual = S(0);
   hx_scale = S(0);
-  for (int q = 0; q < ch_.n; ++q) {  // < L
+  for (int q = 0; q < length(); ++q) {  // < L
     const S a = std::fabs(r_[q]);
     if (a > hx_scale) hx_scale = a;
     r_[q] += ch_.g[q];
@@ -275,8 +278,8 @@ typename D::Scalar ChainSolver<D, L>::multipliers(S& hx_scale) {
     y_link[q] = S(0);
   }
   int a = 0;
-  for (int b = 0; b < ch_.n; ++b) {  // < L: segment a..b ends at b
-    if (b + 1 < ch_.n && link_[b] != kInactive) continue;
+  for (int b = 0; b < length(); ++b) {  // < L: segment a..b ends at b
+    if (b + 1 < length() && link_[b] != kInactive) continue;
     S total = S(0);
     int held = -1;
     for (int q = a; q <= b; ++q) {  // < L
@@ -304,7 +307,7 @@ int ChainSolver<D, L>::ratio_test(S& alpha, int& kind, std::int8_t& side) const 
   kind = 0;
   side = kInactive;
   int which = -1;
-  for (int q = 0; q < ch_.n; ++q) {  // < L
+  for (int q = 0; q < length(); ++q) {  // < L
     if (bound_[q] != kInactive || free_[segment_[q]] < 0) continue;
     const S p = xe_[q] - x_[q];
     if (p < S(0) && ch_.lb[q] > -std::numeric_limits<S>::infinity()) {
@@ -315,7 +318,7 @@ int ChainSolver<D, L>::ratio_test(S& alpha, int& kind, std::int8_t& side) const 
       if (t < alpha) alpha = t, kind = 1, which = q, side = kUpper;
     }
   }
-  for (int q = 0; q + 1 < ch_.n; ++q) {  // < L
+  for (int q = 0; q + 1 < length(); ++q) {  // < L
     if (link_[q] != kInactive || ch_.link_row[q] < 0) continue;
     if (free_[segment_[q]] < 0 && free_[segment_[q + 1]] < 0) continue;
     const S dp = (xe_[q + 1] - xe_[q]) - (x_[q + 1] - x_[q]);
@@ -337,11 +340,11 @@ template <class D, int L>
 bool ChainSolver<D, L>::final_check() const {
   const S tol = s_.primal_tolerance + s_.refactor_tolerance;
   bool ok = true;
-  for (int q = 0; q < ch_.n; ++q) {  // < L
+  for (int q = 0; q < length(); ++q) {  // < L
     const S v = x_[q];
     ok = ok && std::isfinite(v) && v >= ch_.lb[q] - tol * (S(1) + std::fabs(ch_.lb[q])) &&
          v <= ch_.ub[q] + tol * (S(1) + std::fabs(ch_.ub[q]));
-    if (q + 1 < ch_.n && ch_.link_row[q] >= 0) {
+    if (q + 1 < length() && ch_.link_row[q] >= 0) {
       const S d = x_[q + 1] - x_[q];
       const S scale = S(1) + std::fabs(x_[q + 1]) + std::fabs(x_[q]);
       ok = ok && d >= ch_.link_lo[q] - tol * scale && d <= ch_.link_hi[q] + tol * scale;
@@ -357,10 +360,10 @@ bool ChainSolver<D, L>::final_check() const {
 // through many-at-once exchanges.
 template <class D, int L>
 bool ChainSolver<D, L>::solve(int cap, int& iterations) {
-  if (ch_.n < 1) return false;
+  if (length() < 1) return false;
   independent_marks();
   bool warm = false;
-  for (int q = 0; q < ch_.n; ++q) warm = warm || (bound_[q] != kInactive && bound_[q] != kFixed) || link_[q] != kInactive;  // < L
+  for (int q = 0; q < length(); ++q) warm = warm || (bound_[q] != kInactive && bound_[q] != kFixed) || link_[q] != kInactive;  // < L
   if (!equality_solve()) return false;
   int moved = feasible_start();
   if (moved < 0) return false;
@@ -369,21 +372,21 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations) {
     // of the warm and the cold start point has the lower objective.
     std::int8_t keep_bound[kLz], keep_link[kLz];
     S keep_x[kLz];
-    for (int q = 0; q < ch_.n; ++q) keep_bound[q] = bound_[q], keep_link[q] = link_[q], keep_x[q] = x_[q];  // < L
+    for (int q = 0; q < length(); ++q) keep_bound[q] = bound_[q], keep_link[q] = link_[q], keep_x[q] = x_[q];  // < L
     const S warm_value = value_at(x_);
     clear_marks();
     if (!equality_solve()) return false;
     const int cold_moved = feasible_start();
     if (cold_moved < 0) return false;
     if (warm_value < value_at(x_)) {
-      for (int q = 0; q < ch_.n; ++q) bound_[q] = keep_bound[q], link_[q] = keep_link[q], x_[q] = keep_x[q];  // < L
+      for (int q = 0; q < length(); ++q) bound_[q] = keep_bound[q], link_[q] = keep_link[q], x_[q] = keep_x[q];  // < L
       moved = 1;  // xe_ is the cold one now
     } else {
       moved = cold_moved;
     }
   }
   S g_scale = S(1);
-  for (int q = 0; q < ch_.n; ++q) {  // < L
+  for (int q = 0; q < length(); ++q) {  // < L
     const S a = std::fabs(ch_.g[q]);
     if (a > g_scale) g_scale = a;
   }
@@ -400,7 +403,7 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations) {
     const int which = ratio_test(alpha, kind, side);
     if (kind != 0) {  // blocked: step to the constraint and add it
       if (iterations - start_changes >= cap) return false;
-      for (int q = 0; q < ch_.n; ++q) x_[q] += alpha * (xe_[q] - x_[q]);  // < L
+      for (int q = 0; q < length(); ++q) x_[q] += alpha * (xe_[q] - x_[q]);  // < L
       if (kind == 1) {
         bound_[which] = side;
         x_[which] = bound_value(which, side);
@@ -411,14 +414,14 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations) {
       ++iterations;
       continue;
     }
-    for (int q = 0; q < ch_.n; ++q) x_[q] = xe_[q];  // < L
+    for (int q = 0; q < length(); ++q) x_[q] = xe_[q];  // < L
     S hx_scale = S(0);
     const S residual = multipliers(hx_scale);
     S worst = dual_tol;  // the wrong sign by the most (one-per-visit rule)
     int drop = -1;
     bool drop_link = false;
     int dropped = 0;
-    for (int q = 0; q < ch_.n; ++q) {  // < L
+    for (int q = 0; q < length(); ++q) {  // < L
       const S yb = bound_[q] == kLower ? offset_[q] : (bound_[q] == kUpper ? -offset_[q] : S(0));
       const S yl = link_[q] == kLower ? rhs_[q] : (link_[q] == kUpper ? -rhs_[q] : S(0));
       if (yb > worst) worst = yb, drop = q, drop_link = false;
