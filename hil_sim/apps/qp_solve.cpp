@@ -120,22 +120,14 @@ Outcome solve_once(Solver<D>& s, const Input& in, const Options& opt) {
   const bool hot = opt.hot && same_matrices(s.previous_qp, in.qp) && s.ws.factored;
   const bool warm = (opt.warm || opt.hot) && !hot && same_shape && s.have_previous;
   const auto t0 = std::chrono::steady_clock::now();
-  // As the planner's StageQp: shapes with a chain capacity solve cold starts
-  // with the chain solver first; restarts stay with the general solver.
-  auto verdict = itp::qp::ChainVerdict::kUseGeneralSolver;
-  if constexpr (D::kMaxChainLength > 0) {
-    if (!opt.general_only && !hot && !warm) {
-      verdict = itp::qp::solve_chain(s.problem, opt.settings, nullptr, s.result);
-    }
-  }
-  if (verdict == itp::qp::ChainVerdict::kSettled) {
-    out.status = s.result.status;
-  } else if (hot) {
+  if (hot) {
     out.status = itp::qp::solve_hot(s.problem, s.ws, opt.settings, s.result);
   } else if (warm) {
     out.status = itp::qp::solve_warm(s.problem, s.ws, opt.settings, s.previous, s.result);
   } else {
-    out.status = itp::qp::solve_cold(s.problem, s.ws, opt.settings, s.result);
+    // As the planner's StageQp: a chain-form file goes to the chain solver first.
+    out.status = opt.general_only ? itp::qp::solve_cold(s.problem, s.ws, opt.settings, s.result)
+                                  : itp::qp::solve_cold_structured(s.problem, s.ws, opt.settings, s.result);
   }
   const auto t1 = std::chrono::steady_clock::now();
   out.time_us = std::chrono::duration<double, std::micro>(t1 - t0).count();

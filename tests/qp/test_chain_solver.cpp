@@ -11,7 +11,6 @@
 #include <limits>
 #include <memory>
 #include <random>
-#include <type_traits>
 #include <vector>
 
 #include "heap_guard.hpp"
@@ -198,11 +197,11 @@ double brute_force_optimum(const QpProblem<D>& p) {
 }
 
 template <class D>
-void check_against_general(Case<D>& k, const std::type_identity_t<WorkingSet<D>>* warm) {
+void check_against_general(Case<D>& k) {
   ChainVerdict verdict;
   {
     test_support::HeapGuard guard;
-    verdict = solve_chain(k.p, k.settings, warm, k.chain);
+    verdict = solve_chain(k.p, k.ws, k.settings, k.chain);
   }
   const QpStatus general = solve_cold(k.p, k.ws, k.settings, k.general);
   if (verdict == ChainVerdict::kUseGeneralSolver) {
@@ -229,11 +228,11 @@ TEST_CASE("chain solver: random chains, one and two interleaved, meet KKT and th
     const bool tight = trial % 3 == 0;  // links at their bound along a run: degenerate vertices
     if (trial % 2 == 0) {
       build_chain(k2->p, 10 + trial % 31, 2, rng, tight);
-      check_against_general(*k2, nullptr);
+      check_against_general(*k2);
       settled += k2->chain.status == QpStatus::kOptimal;
     } else {
       build_chain(k1->p, 3 + trial % 10, 1, rng, tight);
-      check_against_general(*k1, nullptr);
+      check_against_general(*k1);
       settled += k1->chain.status == QpStatus::kOptimal;
     }
     ++total;
@@ -249,7 +248,7 @@ TEST_CASE("chain solver: small chains against a brute force over every face") {
   for (int trial = 0; trial < 60; ++trial) {
     build_chain(k->p, 3 + trial % 3, 1, rng, trial % 2 == 0);
     const double best = brute_force_optimum(k->p);
-    const ChainVerdict v = solve_chain(k->p, k->settings, static_cast<const WorkingSet<One>*>(nullptr), k->chain);
+    const ChainVerdict v = solve_chain(k->p, k->ws, k->settings, k->chain);
     if (!std::isfinite(best)) {  // infeasible: not for the chain solver to say
       CHECK(v == ChainVerdict::kUseGeneralSolver);
       continue;
@@ -260,27 +259,6 @@ TEST_CASE("chain solver: small chains against a brute force over every face") {
     ++compared;
   }
   CHECK(compared >= 30);
-}
-
-TEST_CASE("chain solver: any warm working set, garbage included, gives the same optimum") {
-  auto k = std::make_unique<Case<Two>>();
-  std::mt19937 rng(3);
-  std::uniform_int_distribution<int> pick(-3, 60);
-  for (int trial = 0; trial < 100; ++trial) {
-    build_chain(k->p, 40, 2, rng, trial % 2 == 0);
-    WorkingSet<Two> warm;
-    const int entries = trial % 45;
-    for (int e = 0; e < entries; ++e) {
-      static_cast<void>(warm.push(pick(rng), pick(rng) % 2 == 0, pick(rng) % 2 == 0 ? -1 : 1));
-    }
-    check_against_general(*k, &warm);
-    if (k->chain.status != QpStatus::kOptimal) continue;
-    // From its own final working set: no change at all.
-    const WorkingSet<Two> final_set = k->chain.working_set;
-    REQUIRE(solve_chain(k->p, k->settings, &final_set, k->chain) == ChainVerdict::kSettled);
-    CHECK(k->chain.iterations == 0);
-    CHECK(kkt_residual(k->p, k->chain).max() <= 1e-8);
-  }
 }
 
 TEST_CASE("chain solver: the coarse QP of the planner (degenerate time chain) is solved as by the general solver") {
@@ -316,7 +294,7 @@ TEST_CASE("chain solver: the coarse QP of the planner (degenerate time chain) is
     REQUIRE(k->p.push_row_entry(r, 2 * r + 3, 1));
     k->p.lba[r] = 0.3;
   }
-  check_against_general(*k, nullptr);
+  check_against_general(*k);
   CHECK(k->chain.status == QpStatus::kOptimal);
 }
 
@@ -330,17 +308,17 @@ TEST_CASE("chain solver: verdicts. Invalid data settled as such; other shapes, i
   };
   valid();
   k->p.g[5] = std::numeric_limits<double>::quiet_NaN();
-  CHECK(solve_chain(k->p, k->settings, static_cast<const WorkingSet<Two>*>(nullptr), k->chain) == ChainVerdict::kSettled);
+  CHECK(solve_chain(k->p, k->ws, k->settings, k->chain) == ChainVerdict::kSettled);
   CHECK(k->chain.status == QpStatus::kInvalidInput);
 
   valid();
   k->p.set_hessian(3, 2, 0.01);  // couples the two chains: not chain form
-  CHECK(solve_chain(k->p, k->settings, static_cast<const WorkingSet<Two>*>(nullptr), k->chain) ==
+  CHECK(solve_chain(k->p, k->ws, k->settings, k->chain) ==
         ChainVerdict::kUseGeneralSolver);
 
   valid();
   k->p.set_hessian(7, 7, -50.0);  // a negative eigenvalue: the general solver proves it
-  CHECK(solve_chain(k->p, k->settings, static_cast<const WorkingSet<Two>*>(nullptr), k->chain) ==
+  CHECK(solve_chain(k->p, k->ws, k->settings, k->chain) ==
         ChainVerdict::kUseGeneralSolver);
   CHECK(solve_cold(k->p, k->ws, k->settings, k->general) == QpStatus::kNotConvex);
 
@@ -355,7 +333,7 @@ TEST_CASE("chain solver: verdicts. Invalid data settled as such; other shapes, i
   }
   k->p.lb[2] = k->p.ub[2] = 0.0;
   k->p.ub[6] = 1.5;
-  CHECK(solve_chain(k->p, k->settings, static_cast<const WorkingSet<Two>*>(nullptr), k->chain) ==
+  CHECK(solve_chain(k->p, k->ws, k->settings, k->chain) ==
         ChainVerdict::kUseGeneralSolver);
   CHECK(solve_cold(k->p, k->ws, k->settings, k->general) == QpStatus::kInfeasible);
 
@@ -365,7 +343,7 @@ TEST_CASE("chain solver: verdicts. Invalid data settled as such; other shapes, i
     build_chain(k->p, 40, 2, rng, true);
     QpSettings<double> one = k->settings;
     one.max_iterations = 1;
-    if (solve_chain(k->p, one, static_cast<const WorkingSet<Two>*>(nullptr), k->chain) == ChainVerdict::kSettled) {
+    if (solve_chain(k->p, k->ws, one, k->chain) == ChainVerdict::kSettled) {
       CHECK(k->chain.iterations <= 1);
       CHECK(kkt_residual(k->p, k->chain).max() <= 1e-8);
     } else {
@@ -421,7 +399,7 @@ TEST_CASE("chain solver: in float (the low-RAM image) it agrees with the general
       f->p.uba[r] = static_cast<float>(k->p.uba[r]);
     }
     const QpStatus general = solve_cold(f->p, f->ws, f->settings, f->general);
-    const ChainVerdict v = solve_chain(f->p, f->settings, nullptr, f->chain);
+    const ChainVerdict v = solve_chain(f->p, f->ws, f->settings, f->chain);
     if (v == ChainVerdict::kUseGeneralSolver || general != QpStatus::kOptimal) continue;
     REQUIRE(f->chain.status == QpStatus::kOptimal);
     float scale = 1.0f;

@@ -784,10 +784,7 @@ struct ActiveSetSolver {
       if (!ray) store_multiplier(c, static_cast<S>(ws.w_side[i]) * ws.lambda[i], res);
       (void)res.working_set.push(is_bound(c) ? c : c - kN, is_bound(c), ws.w_side[i]);
     }
-    band::multiply(p.h_band, p.n, ws.x, ws.scratch2);
-    S obj = S(0);
-    for (int j = 0; j < p.n; ++j) obj += ws.x[j] * (S(0.5) * ws.scratch2[j] + p.g[j]);
-    res.objective = obj;
+    res.objective = objective_value(p, ws.x, ws.scratch2);
   }
 };
 

@@ -2,7 +2,8 @@
 // Entry point of the chain solver (chain_solver.hpp) for a QpProblem whose
 // dims declare a chain capacity (QpDims' Chain > 0): the coarse decision QP.
 // It settles what it can prove, kOptimal (KKT checked) or kInvalidInput, and
-// hands everything else to the general active-set solver: a problem not in
+// hands everything else to the general active-set solver
+// (solve_cold_structured below): a problem not in
 // chain form, an infeasible chain, a reduced H that is not positive definite,
 // the iteration cap. So kInfeasible, kNotConvex and kNumericalTrouble keep
 // the general solver's certificates (solver.hpp).
@@ -10,41 +11,26 @@
 // Memory: the chain's link bounds and the solver state live on the stack
 // (~18 arrays of Chain scalars, docs/qp.md); H, g and the bounds are read in place.
 #include <cstdint>
-#include <type_traits>
 
 #include "itp/qp/chain_form.hpp"
 #include "itp/qp/chain_solver.hpp"
 #include "itp/qp/problem.hpp"
+#include "itp/qp/solver.hpp"
 #include "itp/qp/workspace.hpp"
 
 namespace itp::qp {
 
 enum class ChainVerdict : std::uint8_t {
   kSettled,           // result.status is final (kOptimal or kInvalidInput)
-  kUseGeneralSolver,  // result is scratch: solve with solve_cold / solve_warm / solve_hot
+  kUseGeneralSolver,  // result is scratch: the general solver must solve it (solve_cold_structured does)
 };
 
 namespace chain {
 
-// The warm marks of chain c (stride k) from a working set.
-template <class D, int L>
-void load_marks(const QpProblem<D>& p, const WorkingSet<D>& warm, int k, int c, ChainSolver<D, L>& solver) {
-  const int count = warm.size < D::kMaxActive ? warm.size : D::kMaxActive;
-  for (int e = 0; e < count; ++e) {  // <= N + 1 entries
-    const ActiveConstraint& a = warm.entries[e];
-    if (a.is_bound != 0) {
-      if (a.index >= 0 && a.index < p.n && a.index % k == c) solver.mark_bound(a.index / k, a.side);
-    } else if (a.index >= 0 && a.index < p.m && p.a_nnz[a.index] == 2) {
-      const int j = p.a_col[a.index][0];
-      if (j % k == c) solver.mark_link(j / k, a.side);
-    }
-  }
-}
-
 // The final marks per variable j, packed: bits 0-1 its bound, bits 2-3 the
 // link from j to j + K (0 none, 1 lower, 2 upper), so that the working set
-// is written only after every chain succeeded (the warm start may be the
-// very working set of the result, and a fallback restarts from it).
+// is written only after every chain succeeded (one byte per variable on the
+// stack instead of a second WorkingSet).
 inline std::uint8_t side_code(int side) { return side < 0 ? 1 : 2; }
 inline int code_side(int code) { return code == 1 ? -1 : 1; }
 
@@ -82,12 +68,12 @@ void write_working_set(const QpProblem<D>& p, const std::uint8_t* marks, QpResul
 
 }  // namespace chain
 
-// Solves `p` with the chain solver, from `warm`'s working set if given (it
-// may be res.working_set itself). When the general solver must take over,
-// res.working_set is left as it was.
+// A cold solve of `p` with the chain solver. `ws` lends its objective
+// scratch and is marked unfactored when the chain solver settles (it then
+// holds no factor of this problem's H).
 template <class D>
-ChainVerdict solve_chain(const QpProblem<D>& p, const QpSettings<typename D::Scalar>& settings,
-                         const std::type_identity_t<WorkingSet<D>>* warm, QpResult<D>& res) {
+ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSettings<typename D::Scalar>& settings,
+                         QpResult<D>& res) {
   using S = typename D::Scalar;
   constexpr int L = D::kMaxChainLength > 0 ? D::kMaxChainLength : 1;
   res.iterations = 0;
@@ -111,23 +97,40 @@ ChainVerdict solve_chain(const QpProblem<D>& p, const QpSettings<typename D::Sca
     chain::ChainData<D, L> ch;
     chain::gather(p, k, c, ch);
     chain::ChainSolver<D, L> solver(ch, settings);
-    solver.clear_marks();
-    if (warm != nullptr) chain::load_marks(p, *warm, k, c, solver);
     const bool solved = solver.solve(cap - res.iterations, res.iterations);
     res.refactorisations += solver.factorisations();
     if (!solved) return ChainVerdict::kUseGeneralSolver;
     chain::store(p, ch, solver, res, marks);
   }
   chain::write_working_set(p, marks, res);
-  S objective = S(0);
-  for (int i = 0; i < p.n; ++i) {  // < N: 1/2 x'Hx + g'x over the band
-    S hx = p.h_band[i][0] * res.x[i] * S(0.5);
-    for (int off = 1; off <= D::kBandwidth && off <= i; ++off) hx += p.h_band[i][off] * res.x[i - off];  // <= Bw
-    objective += res.x[i] * (hx + p.g[i]);
-  }
-  res.objective = objective;
+  res.objective = objective_value(p, res.x, ws.scratch2);
   res.status = QpStatus::kOptimal;
+  ws.factored = false;
   return ChainVerdict::kSettled;
+}
+
+// A cold solve that uses the chain solver where D allows it (Chain > 0):
+// what it cannot settle goes to solve_cold with what is left of the iteration
+// cap, and the result counts both solvers' iterations. Else solve_cold.
+template <class D>
+QpStatus solve_cold_structured(const QpProblem<D>& p, QpWorkspace<D>& ws,
+                               const QpSettings<typename D::Scalar>& settings, QpResult<D>& res) {
+  if constexpr (D::kMaxChainLength > 0) {
+    if (solve_chain(p, ws, settings, res) == ChainVerdict::kSettled) return res.status;
+    const int used = res.iterations;
+    const int cap = settings.max_iterations > 0 ? settings.max_iterations : D::kMaxIterations;
+    if (used >= cap) {
+      res.status = QpStatus::kIterationLimit;
+      return res.status;
+    }
+    QpSettings<typename D::Scalar> rest = settings;
+    rest.max_iterations = cap - used;
+    const QpStatus st = solve_cold(p, ws, rest, res);
+    res.iterations += used;
+    return st;
+  } else {
+    return solve_cold(p, ws, settings, res);
+  }
 }
 
 }  // namespace itp::qp

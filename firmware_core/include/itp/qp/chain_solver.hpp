@@ -42,25 +42,7 @@ class ChainSolver {
 
   ChainSolver(const ChainData<D, L>& chain, const QpSettings<S>& settings) : ch_(chain), s_(settings) {}
 
-  // The marks a solve starts from (a warm start's working set), before
-  // solve(): independent ones are kept, the rest dropped.
-  void clear_marks() {
-    for (int q = 0; q < length(); ++q) {  // < L
-      bound_[q] = ch_.lb[q] == ch_.ub[q] ? kFixed : kInactive;
-      link_[q] = kInactive;
-    }
-  }
-  // Marks on a side that is infinite (or a link without a row) are skipped.
-  void mark_bound(int q, int side) {
-    const std::int8_t mark = side < 0 ? kLower : kUpper;
-    if (bound_[q] != kFixed && std::isfinite(bound_value(q, mark))) bound_[q] = mark;
-  }
-  void mark_link(int q, int side) {
-    const std::int8_t mark = side < 0 ? kLower : kUpper;
-    if (q + 1 < length() && std::isfinite(link_value(q, mark))) link_[q] = mark;
-  }
-
-  // Runs up to `cap` working-set changes; adds them to `iterations`. True
+  // A cold solve: up to `cap` working-set changes, added to `iterations`. True
   // with x() optimal (KKT within the tolerances, x feasible); false when the
   // chain is infeasible, its reduced H not positive definite, or the cap or
   // a check is hit: the general solver must settle the problem.
@@ -75,6 +57,13 @@ class ChainSolver {
   std::int8_t link_mark(int q) const { return link_[q]; }
 
  private:
+  // W = the fixed variables only (lb == ub).
+  void clear_marks() {
+    for (int q = 0; q < length(); ++q) {  // < L
+      bound_[q] = ch_.lb[q] == ch_.ub[q] ? kFixed : kInactive;
+      link_[q] = kInactive;
+    }
+  }
   void independent_marks();
   bool equality_solve();
   int feasible_start();
@@ -86,13 +75,6 @@ class ChainSolver {
   int length() const { return ch_.n < L ? ch_.n : L; }
   S bound_value(int q, std::int8_t side) const { return side == kUpper ? ch_.ub[q] : ch_.lb[q]; }
   S link_value(int q, std::int8_t side) const { return side == kUpper ? ch_.link_hi[q] : ch_.link_lo[q]; }
-  // 1/2 x'Hx + g'x along the chain (r_ as scratch).
-  S value_at(const S* x) {
-    ch_.multiply(x, r_);
-    S f = S(0);
-    for (int q = 0; q < length(); ++q) f += x[q] * (S(0.5) * r_[q] + ch_.g[q]);  // < L
-    return f;
-  }
 
   const ChainData<D, L>& ch_;
   const QpSettings<S>& s_;
@@ -204,13 +186,12 @@ bool ChainSolver<D, L>::equality_solve() {
   return true;
 }
 
-// From the target xe (the equality optimum of the start marks): x = the
-// feasible point that follows xe, clamped left to right into what the bounds,
-// the link to x_{q-1} and every later constraint (reach, a backward pass)
-// still allow; exact for a chain. Marks: every constraint x was clamped
-// against, and the start marks that x still meets exactly. Returns how many
-// positions were clamped (0: x = xe, still the optimum for the marks), or -1:
-// infeasible.
+// From the target xe (the equality optimum with the fixed variables only):
+// x = the feasible point that follows xe, clamped left to right into what the
+// bounds, the link to x_{q-1} and every later constraint (reach, a backward
+// pass) still allow; exact for a chain. Marks: every constraint x was clamped
+// against. Returns how many positions were clamped (0: x = xe, still the
+// optimum for the marks), or -1: infeasible.
 template <class D, int L>
 int ChainSolver<D, L>::feasible_start() {
   S* reach_lo = r_;    // scratch: r_ and rhs_ are rewritten by the next solve
@@ -225,7 +206,6 @@ int ChainSolver<D, L>::feasible_start() {
     if (!(reach_lo[q] <= reach_hi[q])) return -1;
   }
   if (!(reach_lo[length() - 1] <= reach_hi[length() - 1])) return -1;
-  bool prev_kept = true;  // x_{q-1} == xe_{q-1}
   int moved = 0;
   for (int q = 0; q < length(); ++q) {  // < L
     S lo = reach_lo[q], hi = reach_hi[q];
@@ -239,21 +219,16 @@ int ChainSolver<D, L>::feasible_start() {
     }
     if (hi < lo) hi = lo;  // rounding of the reach: keep the lower end
     const S target = xe_[q];
-    // Within rounding of [lo, hi] the target keeps its marks (an equality
-    // optimum of the final working set restarts with no change).
+    // Within rounding of [lo, hi] the target is not clamped against anything.
     const S slack = s_.primal_tolerance * (S(1) + std::fabs(target));
     const bool keep = target >= lo - slack && target <= hi + slack;
     x_[q] = target < lo ? lo : (target > hi ? hi : target);
     const std::int8_t by = keep ? std::int8_t(0) : (target < lo ? lo_by : hi_by);
     const std::int8_t side = target < lo ? kLower : kUpper;
-    if (q > 0) {
-      const bool link_kept = keep && prev_kept && link_[q - 1] != kInactive;
-      link_[q - 1] = by == 2 ? side : (link_kept ? link_[q - 1] : kInactive);
-    }
-    if (bound_[q] != kFixed) bound_[q] = by == 1 ? side : (keep ? bound_[q] : kInactive);
+    if (q > 0) link_[q - 1] = by == 2 ? side : kInactive;
+    if (bound_[q] != kFixed) bound_[q] = by == 1 ? side : kInactive;
     if (bound_[q] == kLower) x_[q] = ch_.lb[q];
     if (bound_[q] == kUpper) x_[q] = ch_.ub[q];
-    prev_kept = keep;
     moved += keep ? 0 : 1;
   }
   independent_marks();
@@ -361,30 +336,10 @@ bool ChainSolver<D, L>::final_check() const {
 template <class D, int L>
 bool ChainSolver<D, L>::solve(int cap, int& iterations) {
   if (length() < 1) return false;
-  independent_marks();
-  bool warm = false;
-  for (int q = 0; q < length(); ++q) warm = warm || (bound_[q] != kInactive && bound_[q] != kFixed) || link_[q] != kInactive;  // < L
+  clear_marks();
   if (!equality_solve()) return false;
-  int moved = feasible_start();
+  const int moved = feasible_start();
   if (moved < 0) return false;
-  if (warm) {
-    // The warm marks may suit the last problem only: start from whichever
-    // of the warm and the cold start point has the lower objective.
-    std::int8_t keep_bound[kLz], keep_link[kLz];
-    S keep_x[kLz];
-    for (int q = 0; q < length(); ++q) keep_bound[q] = bound_[q], keep_link[q] = link_[q], keep_x[q] = x_[q];  // < L
-    const S warm_value = value_at(x_);
-    clear_marks();
-    if (!equality_solve()) return false;
-    const int cold_moved = feasible_start();
-    if (cold_moved < 0) return false;
-    if (warm_value < value_at(x_)) {
-      for (int q = 0; q < length(); ++q) bound_[q] = keep_bound[q], link_[q] = keep_link[q], x_[q] = keep_x[q];  // < L
-      moved = 1;  // xe_ is the cold one now
-    } else {
-      moved = cold_moved;
-    }
-  }
   S g_scale = S(1);
   for (int q = 0; q < length(); ++q) {  // < L
     const S a = std::fabs(ch_.g[q]);

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "itp/qp/banded_cholesky.hpp"
 #include "itp/qp/dimensions.hpp"
 
 namespace itp::qp {
@@ -108,6 +109,16 @@ struct QpProblem {
     return s;
   }
 };
+
+// 1/2 x'Hx + g'x; hx (n scalars) receives Hx.
+template <class D>
+typename D::Scalar objective_value(const QpProblem<D>& p, const typename D::Scalar* x, typename D::Scalar* hx) {
+  using S = typename D::Scalar;
+  band::multiply(p.h_band, p.n, x, hx);
+  S obj = S(0);
+  for (int j = 0; j < p.n; ++j) obj += x[j] * (S(0.5) * hx[j] + p.g[j]);  // < N
+  return obj;
+}
 
 // The vector data a hotstart may change: g finite; bounds not NaN, lb <= ub,
 // lbA <= ubA, no lower bound of +inf and no upper bound of -inf.

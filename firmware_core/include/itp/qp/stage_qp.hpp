@@ -15,7 +15,6 @@
 // arena").
 #include "itp/qp/chain_qp.hpp"
 #include "itp/qp/qp_arena.hpp"
-#include "itp/qp/solver.hpp"
 
 namespace itp::qp {
 
@@ -54,44 +53,6 @@ class StageQp {
     }
     const bool restart = solved_ && key == key_ && have_start_;
     QpStorage<Dims>& qp = claim();  // already held since the build
-    if constexpr (Dims::kMaxChainLength > 0) {
-      // Chain form (the coarse QP): a cold start goes to the chain solver
-      // first (chain_qp.hpp), ~4x faster than a cold general solve. Restarts
-      // stay with the general solver: its hot start from the held factor
-      // costs fewer Cortex-M7 instructions than a chain solve (docs/qp.md,
-      // "Chain solver"). So after a chain solve the next restart is warm
-      // (the factor is built then). What the chain solver cannot settle goes
-      // to the general solver with what is left of the iteration cap; the
-      // result counts both solvers' iterations.
-      if (!restart) {
-        if (solve_chain(qp.problem, settings, nullptr, result_) ==
-            ChainVerdict::kSettled) {
-          factor_held_ = false;
-          return finish(result_.status, key, keep_factor_after_failure);
-        }
-        const int used = result_.iterations;
-        const int cap = settings.max_iterations > 0 ? settings.max_iterations : Dims::kMaxIterations;
-        if (used >= cap) {
-          factor_held_ = false;
-          result_.status = QpStatus::kIterationLimit;
-          return finish(result_.status, key, keep_factor_after_failure);
-        }
-        settings.max_iterations = cap - used;
-        const QpStatus st = run_general(qp, restart, settings);
-        result_.iterations += used;
-        return finish(st, key, keep_factor_after_failure);
-      }
-      return finish(run_general(qp, restart, settings), key, keep_factor_after_failure);
-    } else {
-      return finish(run_general(qp, restart, settings), key, keep_factor_after_failure);
-    }
-  }
-
-  // Forget the start: the next solve is cold (a new scene).
-  void reset() { have_start_ = false; }
-
- private:
-  QpStatus run_general(QpStorage<Dims>& qp, bool restart, const QpSettings<Scalar>& settings) {
     QpStatus st = QpStatus::kNotFactored;
     if (restart && factor_held_) {
       st = solve_hot(qp.problem, qp.workspace, settings, result_);
@@ -100,21 +61,27 @@ class StageQp {
       st = solve_warm(qp.problem, qp.workspace, settings, start, result_);
     }
     if (st == QpStatus::kNotFactored) {
-      st = solve_cold(qp.problem, qp.workspace, settings, result_);
+      // A cold start of a chain-form QP (the coarse QP) goes to the chain
+      // solver first (chain_qp.hpp), ~3x faster than a cold general solve.
+      // Restarts stay with the general solver: its hot start costs fewer
+      // Cortex-M7 instructions than a chain solve (docs/qp.md, "Chain
+      // solver"). A chain solve leaves no factor, so the next restart is
+      // warm and builds it.
+      st = solve_cold_structured(qp.problem, qp.workspace, settings, result_);
     }
-    factor_held_ = true;
-    return st;
-  }
-
-  QpStatus finish(QpStatus st, const Key& key, bool keep_factor_after_failure) {
     have_start_ = is_usable(st) ||
                   (keep_factor_after_failure && (st == QpStatus::kInfeasible || st == QpStatus::kIterationLimit ||
                                                  st == QpStatus::kNumericalTrouble));
+    factor_held_ = qp.workspace.factored;
     key_ = key;
     solved_ = true;
     return st;
   }
 
+  // Forget the start: the next solve is cold (a new scene).
+  void reset() { have_start_ = false; }
+
+ private:
   QpStorage<Dims>& claim() {
     bool fresh = false;
     QpStorage<Dims>& qp = arena_.template claim<Dims>(this, fresh);
