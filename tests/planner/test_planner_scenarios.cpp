@@ -177,6 +177,30 @@ TEST_CASE("oncoming car beside a parked car: the ego waits or passes, never meet
   CHECK(min_clearance(s, *r.plan) >= 0.3);
 }
 
+TEST_CASE("straddling two lanes beside a faster car from behind: an ok plan, not a stop on the path budget") {
+  // Found by the independent judge (seed 6, slow_leader): the ego half in the
+  // left lane, behind a slow leader, while a faster car comes up in that
+  // lane. The car's SL box covers the ego's own s, so the corridor starts
+  // beside the ego; with the start admitted only within the first block
+  // every path QP was infeasible and every cycle fell back (budget) until
+  // the ego stood still.
+  Scene s = road_scene(1, 0, 0, 250);
+  s.ego.state.y = 1.6;
+  s.ego.state.v = 3.1;
+  add_mover(s, 1, 16, 0.0, 0, 2.8);    // the slow leader in the ego's lane
+  add_mover(s, 2, -4, 3.5, 0, 5.5);    // faster, in the left lane, beside and behind
+  Run r;
+  r.go(s);
+  REQUIRE(r.status == itp::PlanStatus::kOk);
+  check_limits(s, *r.plan);
+  // The start is 5 cm from the passing car's side: never closer, and back
+  // in its own lane (|l| < 0.5 m) 4 s on.
+  CHECK(min_clearance(s, *r.plan) >= 0.03);
+  for (const auto& q : r.plan->trajectory) {
+    if (q.t >= 4.0) CHECK(std::fabs(q.l) < 0.5);
+  }
+}
+
 TEST_CASE("after reset() a reused planner gives bit-identical output to a fresh one") {
   Scene a = road_scene(1, 0);
   add_static(a, 1, 45, 0.2);

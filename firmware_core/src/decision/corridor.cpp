@@ -28,11 +28,11 @@ LateralInterval corridor_at(const BasicConvexSpace<Cfg>& space, const BasicDecis
     const Zone& z = space.zones[static_cast<std::size_t>(zi)];
     if (space.slice_of(z).s_begin <= s + kSliceEps && s - kSliceEps <= space.slice_of(z).s_end) {
       if (!found) {
-        out = LateralInterval{z.l_min, z.l_max};
+        out = LateralInterval{z.l_min, z.l_max, z.right_box, z.left_box};
         found = true;
       } else {
-        out.lo = z.l_min > out.lo ? z.l_min : out.lo;
-        out.hi = z.l_max < out.hi ? z.l_max : out.hi;
+        if (z.l_min > out.lo) out.lo = z.l_min, out.lo_box = z.right_box;
+        if (z.l_max < out.hi) out.hi = z.l_max, out.hi_box = z.left_box;
       }
     }
   }
@@ -41,7 +41,7 @@ LateralInterval corridor_at(const BasicConvexSpace<Cfg>& space, const BasicDecis
     const Zone& first = space.zones[static_cast<std::size_t>(decision.zones[0])];
     const Zone& last = space.zones[static_cast<std::size_t>(decision.zones.back())];
     const Zone& z = s < space.slice_of(first).s_begin ? first : last;
-    out = LateralInterval{z.l_min, z.l_max};
+    out = LateralInterval{z.l_min, z.l_max, z.right_box, z.left_box};
   }
   return out;
 }

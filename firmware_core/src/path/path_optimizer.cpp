@@ -31,6 +31,18 @@ Scalar kappa_bound_at(const BasicPathInput<Cfg>& in, Scalar s) {
   return in.kappa_bound != nullptr ? in.kappa_bound->at(s) : in.kappa_max;
 }
 
+// A start that overlaps an obstacle's box (the ego beside a car that will
+// pass it, after a fallback) cannot leave it at once. The box's bound admits
+// the bumpers where the start puts them over the distance a lateral move of
+// `excess` takes at curvature `kappa` (two arcs: excess = kappa L^2 / 4), and
+// at least the first block. Road edges never get this room; whether the
+// plan is collision-free in time is the collision check's to decide.
+Scalar recovery_end(Scalar s0, Scalar excess, Scalar kappa, Scalar h, bool obstacle) {
+  if (!obstacle || !(excess > Scalar(0))) return s0;
+  const Scalar length = kappa > Scalar(1e-4) ? Scalar(2) * std::sqrt(excess / kappa) : h;
+  return s0 + (length > h ? length : h);
+}
+
 }  // namespace
 
 template <class Cfg>
@@ -72,6 +84,16 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
     r2s[static_cast<std::size_t>(k)] = spline::evaluate_row(h, tau, 2);
   }
   const spline::Row6 target_lin = -Scalar(2) * w.target * in.l_target * spline::integral_row(h, 0, h);
+  // The bumpers' lateral offsets at the start (linear in the heading, as the
+  // rows), and how far past s0 each side of the corridor admits them.
+  const Scalar front_now = in.l0 + in.front_reach * in.dl0;
+  const Scalar rear_now = in.l0 - in.rear_reach * in.dl0;
+  const decision::LateralInterval c0 = decision::corridor_at(space, decision, in.s0);
+  const Scalar kappa0 = kappa_bound_at(in, in.s0) - std::fabs(kappa_ref_at(in, in.s0));
+  const Scalar room_lo_end = recovery_end(in.s0, c0.lo + half_width - min_of(front_now, rear_now), kappa0, h,
+                                          c0.lo_box != decision::kRoadEdge);
+  const Scalar room_hi_end = recovery_end(in.s0, max_of(front_now, rear_now) - (c0.hi - half_width), kappa0, h,
+                                          c0.hi_box != decision::kRoadEdge);
   int row = 0;
   for (int b = 0; b < Cfg::kPathBlocks; ++b) {  // kPathBlocks
     const int v0 = var(b, 0);
@@ -126,9 +148,11 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
         if (problem.lba[row + end] > problem.uba[row + end]) {  // just the vehicle's width: its middle
           problem.lba[row + end] = problem.uba[row + end] = c.mid();
         }
-        if (b == 0 && !at_start) {
-          const Scalar now = end == 0 ? in.l0 + in.front_reach * in.dl0 : in.l0 - in.rear_reach * in.dl0;
+        const Scalar now = end == 0 ? front_now : rear_now;
+        if (!at_start && (b == 0 || (s <= room_lo_end && c.lo_box == c0.lo_box))) {
           problem.lba[row + end] = min_of(problem.lba[row + end], now - kStartSlack);
+        }
+        if (!at_start && (b == 0 || (s <= room_hi_end && c.hi_box == c0.hi_box))) {
           problem.uba[row + end] = max_of(problem.uba[row + end], now + kStartSlack);
         }
       }

@@ -10,6 +10,8 @@ namespace itp::decision {
 struct LateralInterval {
   Scalar lo = 0;  // [m]
   Scalar hi = 0;  // [m]
+  std::int16_t lo_box = kRoadEdge;  // what bounds it on the right: an obstacle's box, or the road
+  std::int16_t hi_box = kRoadEdge;  // ... and on the left
   Scalar mid() const { return Scalar(0.5) * (lo + hi); }
 };
 
