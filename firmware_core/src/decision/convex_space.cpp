@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "itp/configurations.hpp"
 #include "itp/core/scalar_math.hpp"
@@ -203,23 +204,48 @@ const Zone& BasicConvexSpace<Cfg>::successor(const Zone& z, int bit) const {
   return zones[static_cast<std::size_t>(next.first_zone + bit)];
 }
 
-template <class Cfg>
-Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa,
-                       Scalar sb) {
+// Calls gap(lo, hi) for every free l-interval of the road across [sa, sb]
+// beside the boxes overlapping it (n + 1 at most, some possibly empty).
+template <class Cfg, class Gap>
+void for_each_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa, Scalar sb,
+                       Gap&& gap) {
   const Scalar road_lo = road.right.max_over(sa, sb);
   const Scalar road_hi = road.left.min_over(sa, sb);
   std::array<Interval, Cfg::kMaxDecisionObstacles> blocked{};
   const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
-  Scalar widest = 0;
   Scalar cursor = road_lo;
   for (int i = 0; i <= n; ++i) {  // n + 1 gaps
     const Scalar hi = i == n ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
-    widest = hi - cursor > widest ? hi - cursor : widest;
+    gap(cursor, hi);
     if (i < n && blocked[static_cast<std::size_t>(i)].hi > cursor) {
       cursor = blocked[static_cast<std::size_t>(i)].hi;
     }
   }
+}
+
+template <class Cfg>
+Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa,
+                       Scalar sb) {
+  Scalar widest = 0;
+  for_each_free_gap(road, boxes, sa, sb, [&widest](Scalar lo, Scalar hi) {
+    widest = hi - lo > widest ? hi - lo : widest;
+  });
   return widest;
+}
+
+template <class Cfg>
+Scalar lateral_move_to_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa, Scalar sb,
+                                Scalar l, Scalar width) {
+  Scalar least = std::numeric_limits<Scalar>::infinity();
+  for_each_free_gap(road, boxes, sa, sb, [&](Scalar lo, Scalar hi) {
+    if (hi - lo < width) return;
+    // The centre positions that fit: [lo + w/2, hi - w/2].
+    const Scalar a = lo + Scalar(0.5) * width;
+    const Scalar b = hi - Scalar(0.5) * width;
+    const Scalar move = l < a ? a - l : (l > b ? l - b : Scalar(0));
+    least = move < least ? move : least;
+  });
+  return least;
 }
 
 template <class Cfg>
@@ -274,6 +300,8 @@ ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<con
 #define ITP_INSTANTIATE(C)                                                                        \
   template struct BasicConvexSpace<C>;                                                            \
   template Scalar widest_free_gap<C>(const BasicRoadSl<C>&, std::span<const SlBox>, Scalar, Scalar); \
+  template Scalar lateral_move_to_free_gap<C>(const BasicRoadSl<C>&, std::span<const SlBox>, Scalar, Scalar, \
+                                              Scalar, Scalar);                                             \
   template ConvexSpaceStatus build_convex_space<C>(const BasicRoadSl<C>&, std::span<const SlBox>, \
                                                    const ConvexSpaceParams&,                      \
                                                    BasicConvexSpace<C>&);

@@ -6,6 +6,7 @@
 #include "itp/configurations.hpp"
 #include "itp/core/scalar_math.hpp"
 #include "itp/decision/corridor.hpp"
+#include "itp/path/lateral_move.hpp"
 #include "itp/spline/quintic_block.hpp"
 
 namespace itp::path {
@@ -34,13 +35,15 @@ Scalar kappa_bound_at(const BasicPathInput<Cfg>& in, Scalar s) {
 // A start that overlaps an obstacle's box (the ego beside a car that will
 // pass it, after a fallback) cannot leave it at once. The box's bound admits
 // the bumpers where the start puts them over the distance a lateral move of
-// `excess` takes at curvature `kappa` (two arcs: excess = kappa L^2 / 4), and
-// at least the first block. Road edges never get this room; whether the
-// plan is collision-free in time is the collision check's to decide.
-Scalar recovery_end(Scalar s0, Scalar excess, Scalar kappa, Scalar h, bool obstacle) {
-  if (!obstacle || !(excess > Scalar(0))) return s0;
-  const Scalar length = kappa > Scalar(1e-4) ? Scalar(2) * std::sqrt(excess / kappa) : h;
-  return s0 + (length > h ? length : h);
+// `excess` takes (lateral_move.hpp), and at least the first block. Road edges
+// never get this room; whether the plan is collision-free in time is the
+// collision check's to decide.
+template <class Cfg>
+Scalar recovery_end(const BasicPathInput<Cfg>& in, Scalar excess, Scalar h, bool obstacle) {
+  if (!obstacle || !(excess > Scalar(0))) return in.s0;
+  const Scalar kappa = kappa_bound_at(in, in.s0) - std::fabs(kappa_ref_at(in, in.s0));
+  const Scalar length = lateral_move_length(excess, kappa, in.dl_max);
+  return in.s0 + (length > h ? length : h);
 }
 
 }  // namespace
@@ -89,11 +92,10 @@ void BasicPathOptimizer<Cfg>::build(const ConvexSpace& space, const Decision& de
   const Scalar front_now = in.l0 + in.front_reach * in.dl0;
   const Scalar rear_now = in.l0 - in.rear_reach * in.dl0;
   const decision::LateralInterval c0 = decision::corridor_at(space, decision, in.s0);
-  const Scalar kappa0 = kappa_bound_at(in, in.s0) - std::fabs(kappa_ref_at(in, in.s0));
-  const Scalar room_lo_end = recovery_end(in.s0, c0.lo + half_width - min_of(front_now, rear_now), kappa0, h,
-                                          c0.lo_box != decision::kRoadEdge);
-  const Scalar room_hi_end = recovery_end(in.s0, max_of(front_now, rear_now) - (c0.hi - half_width), kappa0, h,
-                                          c0.hi_box != decision::kRoadEdge);
+  const Scalar room_lo_end =
+      recovery_end(in, c0.lo + half_width - min_of(front_now, rear_now), h, c0.lo_box != decision::kRoadEdge);
+  const Scalar room_hi_end =
+      recovery_end(in, max_of(front_now, rear_now) - (c0.hi - half_width), h, c0.hi_box != decision::kRoadEdge);
   int row = 0;
   for (int b = 0; b < Cfg::kPathBlocks; ++b) {  // kPathBlocks
     const int v0 = var(b, 0);

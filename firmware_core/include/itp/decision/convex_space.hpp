@@ -84,6 +84,13 @@ template <class Cfg>
 Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa,
                        Scalar sb);
 
+// The least lateral move that puts a vehicle of `width` centred at l clear of
+// the road edges and of the boxes overlapping [sa, sb]; infinity if no gap is
+// wide enough. [m]
+template <class Cfg>
+Scalar lateral_move_to_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa, Scalar sb,
+                                Scalar l, Scalar width);
+
 using ConvexSpace = BasicConvexSpace<DefaultConfig>;
 
 }  // namespace itp::decision

@@ -97,6 +97,9 @@ class BasicIteration {
   // One speed QP within them (else speed_ is not usable and speed_budget_out_ is set).
   void solve_speed(Context& ctx, BasicPlan<Cfg>& out);
   void sample_trajectory(const ReferenceLine& reference, const StartState& start, BasicPlan<Cfg>& out) const;
+  // The room the ego's front keeps before a blocked corridor's end [m].
+  Scalar blocked_stop_room(const Context& ctx, const StartState& start, const decision::BasicDecision<Cfg>& chosen,
+                           Scalar width) const;
 
   // The coarse, path and speed QPs' problems and workspaces: one shared
   // storage or one each, as Cfg::kShareQpStorage says (qp/qp_arena.hpp;
