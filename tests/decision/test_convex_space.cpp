@@ -90,7 +90,7 @@ TEST_CASE("bad input is rejected with a status") {
   CHECK(build_convex_space(road(-1.75, 5.25), wall, params(), *space) == ConvexSpaceStatus::kNoStartZone);
 }
 
-TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough, and links are valid") {
+TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough (but a start gap holding the ego), and links are valid") {
   std::mt19937 rng(17);
   std::uniform_real_distribution<Scalar> u(0, 1);
   auto space = std::make_unique<ConvexSpace>();
@@ -126,7 +126,9 @@ TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough, and 
         const Zone& z = space->zones[static_cast<std::size_t>(sl.first_zone + j)];
         CHECK(z.l_min >= right);
         CHECK(z.l_max <= left);
-        CHECK(z.width() >= 1.9);
+        // Wide enough; only a start zone may be narrower: the one gap of slice 0.
+        const bool narrow_start = i == 0 && sl.zone_count == 1;
+        CHECK((z.width() >= 1.9 || narrow_start));
         if (j > 0) {  // sorted and disjoint within the slice
           const Zone& prev = space->zones[static_cast<std::size_t>(sl.first_zone + j - 1)];
           CHECK(prev.l_max <= z.l_min);
@@ -139,7 +141,8 @@ TEST_CASE("random scenes: zones are inside the road, disjoint, wide enough, and 
         for (int bit = 0; bit < 16; ++bit) {
           if ((z.successors & (1u << bit)) != 0u) {
             REQUIRE(i + 1 < space->slices.size());
-            CHECK(ConvexSpace::overlap(z, space->successor(z, bit)) >= 1.9);
+            // As wide as the vehicle, or all of a narrow start zone (the ego goes on straight).
+            CHECK(ConvexSpace::overlap(z, space->successor(z, bit)) >= std::min(1.9, z.width()));
           }
         }
       }
@@ -347,4 +350,30 @@ TEST_CASE("lateral_move_to_free_gap: the least move to a clear position, against
       CHECK(std::fabs(got - expected) <= 0.0011);  // the scan's step
     }
   }
+}
+
+TEST_CASE("no gap as wide as the vehicle at the start: the gap holding the ego is the start zone, linked where it goes on") {
+  // The ego half way past a parked car (right of it) with an oncoming car's
+  // sweep on its left: 1.24 m between them. The gap is the start zone (before,
+  // kNoStartZone: no decision, and the ego stood in the oncoming lane).
+  auto space = std::make_unique<ConvexSpace>();
+  const std::vector<SlBox> boxes{box(-5, 6, -1.75, 0.55, 1), box(-5, 60, 1.79, 5.25, 2)};
+  REQUIRE(build_convex_space(road(-1.75, 5.25), boxes, params(1.2), *space) == ConvexSpaceStatus::kOk);
+  const Zone& start = space->zones[static_cast<std::size_t>(space->start_zone)];
+  CHECK(start.l_min == doctest::Approx(0.55));
+  CHECK(start.l_max == doctest::Approx(1.79));
+  CHECK(start.right_box == 0);
+  CHECK(start.left_box == 1);
+  // Past the parked car the free [-1.75, 1.79] holds all of it: linked.
+  REQUIRE(space->slices.size() >= 2);
+  REQUIRE(start.successors != 0u);
+  const Zone& next = space->successor(start, 0);
+  CHECK(next.l_min == doctest::Approx(-1.75));
+  CHECK(next.l_max == doctest::Approx(1.79));
+  // An ego whose centre lies in the sweep's margin: the nearest gap is its start zone all the same.
+  REQUIRE(build_convex_space(road(-1.75, 5.25), boxes, params(2.1), *space) == ConvexSpaceStatus::kOk);
+  CHECK(space->zones[static_cast<std::size_t>(space->start_zone)].l_min == doctest::Approx(0.55));
+  // No free gap at all across the road: no start zone.
+  const std::vector<SlBox> wall{box(-5, 6, -1.75, 5.25, 1)};
+  CHECK(build_convex_space(road(-1.75, 5.25), wall, params(0.0), *space) == ConvexSpaceStatus::kNoStartZone);
 }

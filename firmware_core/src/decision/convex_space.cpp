@@ -144,6 +144,46 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
   static_cast<void>(out.slices.push_back(slice));
 }
 
+// The ego's first slice has no gap as wide as the vehicle, but the ego is
+// there (half way past a parked car, an oncoming car's sweep beside it, its
+// centre inside that sweep or a box's margin): the free gap nearest to the
+// ego is the start zone, narrower than the vehicle, so that a plan can still
+// take the ego out (the path QP admits the start, docs/path_speed.md;
+// whether the plan is collision-free in time is the collision check's to
+// decide). Without it there was no decision at all, and the ego stood there,
+// in the oncoming lane.
+template <class Cfg>
+void add_start_gap(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo, Scalar road_hi, Scalar ego_l,
+                   BasicConvexSpace<Cfg>& out) {
+  std::array<Interval, Cfg::kMaxDecisionObstacles> blocked{};
+  const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
+  Zone best;
+  Scalar best_distance = std::numeric_limits<Scalar>::infinity();
+  Scalar cursor = road_lo;
+  std::int16_t cursor_box = kRoadEdge;
+  for (int i = 0; i <= n; ++i) {  // n + 1 gaps
+    const bool last = i == n;
+    const Scalar gap_hi = last ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
+    const Scalar distance = ego_l < cursor ? cursor - ego_l : (ego_l > gap_hi ? ego_l - gap_hi : Scalar(0));
+    if (gap_hi > cursor && distance < best_distance) {
+      best_distance = distance;
+      best.l_min = cursor;
+      best.l_max = gap_hi;
+      best.right_box = cursor_box;
+      best.left_box = last ? kRoadEdge : blocked[static_cast<std::size_t>(i)].box;
+    }
+    if (!last && blocked[static_cast<std::size_t>(i)].hi > cursor) {
+      cursor = blocked[static_cast<std::size_t>(i)].hi;
+      cursor_box = blocked[static_cast<std::size_t>(i)].box;
+    }
+  }
+  if (best_distance < std::numeric_limits<Scalar>::infinity()) {
+    best.slice = 0;
+    static_cast<void>(out.zones.push_back(best));  // slice 0 has no other zone: capacity as add_slice_zones
+    ++out.slices[0].zone_count;
+  }
+}
+
 template <class Cfg>
 void compute_zone_costs(const BasicRoadSl<Cfg>& road, BasicConvexSpace<Cfg>& out) {
   Scalar area_max = 0;
@@ -172,7 +212,10 @@ void link_zones(BasicConvexSpace<Cfg>& out) {
       Zone& from = out.zones[static_cast<std::size_t>(a.first_zone + za)];
       for (int zb = 0; zb < b.zone_count; ++zb) {  // <= kMaxZonesPerSlice
         const Zone& to = out.zones[static_cast<std::size_t>(b.first_zone + zb)];
-        if (BasicConvexSpace<Cfg>::overlap(from, to) >= out.vehicle_width) {
+        // A narrow start zone (build_convex_space) links where the ego can
+        // go on straight: to a zone that holds all of it.
+        const Scalar need = from.width() < out.vehicle_width ? from.width() : out.vehicle_width;
+        if (BasicConvexSpace<Cfg>::overlap(from, to) >= need) {
           from.successors = static_cast<std::uint16_t>(from.successors | (1u << zb));
         }
       }
@@ -276,6 +319,9 @@ ConvexSpaceStatus build_convex_space(const BasicRoadSl<Cfg>& road, std::span<con
     const Scalar road_lo = road.right.max_over(sa, sb);
     const Scalar road_hi = road.left.min_over(sa, sb);
     add_slice_zones(boxes, sa, sb, road_lo, road_hi, params, static_cast<std::int16_t>(i), out);
+    if (i == 0 && out.slices[0].zone_count == 0) {
+      add_start_gap(boxes, sa, sb, road_lo, road_hi, params.ego_l, out);
+    }
   }
   compute_zone_costs(road, out);
   link_zones(out);

@@ -51,7 +51,7 @@ struct ConvexSpaceParams {
 enum class ConvexSpaceStatus : std::uint8_t {
   kOk = 0,
   kInvalidInput,  // s_end <= s_start, non-finite values, inverted boxes, too many boxes
-  kNoStartZone,   // the ego's first slice has no zone wide enough for the vehicle
+  kNoStartZone,   // the ego's first slice has no free gap at all
 };
 
 const char* to_string(ConvexSpaceStatus status);
