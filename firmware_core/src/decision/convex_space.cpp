@@ -105,41 +105,53 @@ int blocked_intervals(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar
   return n;
 }
 
+// Calls visit(g) for every free l-interval g of [road_lo, road_hi] between the
+// boxes overlapping [sa, sb): n + 1 at most (some possibly empty), left to
+// right, each with the boxes bounding it (kRoadEdge: the road).
+struct Gap {
+  Scalar lo = 0, hi = 0;
+  std::int16_t lo_box = kRoadEdge, hi_box = kRoadEdge;
+};
+template <class Cfg, class Visit>
+void for_each_gap(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo, Scalar road_hi, Visit&& visit) {
+  std::array<Interval, Cfg::kMaxDecisionObstacles> blocked{};
+  const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
+  Gap g{road_lo, road_lo, kRoadEdge, kRoadEdge};
+  for (int i = 0; i <= n; ++i) {  // n + 1 gaps at most: before each blocked interval, and after the last
+    const bool last = i == n;
+    g.hi = last ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
+    g.hi_box = last ? kRoadEdge : blocked[static_cast<std::size_t>(i)].box;
+    visit(g);
+    if (!last && blocked[static_cast<std::size_t>(i)].hi > g.lo) {
+      g.lo = blocked[static_cast<std::size_t>(i)].hi;
+      g.lo_box = blocked[static_cast<std::size_t>(i)].box;
+    }
+  }
+}
+
 // Free gaps of [road_lo, road_hi] between the boxes overlapping [sa, sb).
 template <class Cfg>
 void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo,
                      Scalar road_hi, const ConvexSpaceParams& params, std::int16_t slice_index,
                      BasicConvexSpace<Cfg>& out) {
-  std::array<Interval, Cfg::kMaxDecisionObstacles> blocked{};
-  const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
   Slice slice;
   slice.s_begin = sa;
   slice.s_end = sb;
   slice.first_zone = static_cast<std::int16_t>(out.zones.size());
-  Scalar cursor = road_lo;
-  std::int16_t cursor_box = kRoadEdge;
-  // n + 1 gaps at most: before each blocked interval, and after the last.
-  for (int i = 0; i <= n; ++i) {
-    const bool last = i == n;
-    const Scalar gap_hi = last ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
-    const std::int16_t gap_hi_box = last ? kRoadEdge : blocked[static_cast<std::size_t>(i)].box;
-    if (gap_hi - cursor >= params.vehicle_width && slice.zone_count < Cfg::kMaxZonesPerSlice) {
+  for_each_gap<Cfg>(boxes, sa, sb, road_lo, road_hi, [&](const Gap& g) {
+    if (g.hi - g.lo >= params.vehicle_width && slice.zone_count < Cfg::kMaxZonesPerSlice) {
       Zone z;
       z.slice = slice_index;
-      z.l_min = cursor;
-      z.l_max = gap_hi;
-      z.right_box = cursor_box;
-      z.left_box = gap_hi_box;
+      z.l_min = g.lo;
+      z.l_max = g.hi;
+      z.right_box = g.lo_box;
+      z.left_box = g.hi_box;
       // zone_count < kMaxZonesPerSlice per slice; over all slices at most
       // kMaxZones = capacity (config.hpp: the count of box/slice overlaps).
       static_cast<void>(out.zones.push_back(z));
       ++slice.zone_count;
     }
-    if (!last && blocked[static_cast<std::size_t>(i)].hi > cursor) {
-      cursor = blocked[static_cast<std::size_t>(i)].hi;
-      cursor_box = blocked[static_cast<std::size_t>(i)].box;
-    }
-  }
+  });
   // One per cut interval: n_cuts - 1 <= kMaxCuts - 1 = kMaxSlices = capacity.
   static_cast<void>(out.slices.push_back(slice));
 }
@@ -155,31 +167,23 @@ void add_slice_zones(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar 
 template <class Cfg>
 void add_start_gap(std::span<const SlBox> boxes, Scalar sa, Scalar sb, Scalar road_lo, Scalar road_hi, Scalar ego_l,
                    BasicConvexSpace<Cfg>& out) {
-  std::array<Interval, Cfg::kMaxDecisionObstacles> blocked{};
-  const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
-  Zone best;
+  Gap best;
   Scalar best_distance = std::numeric_limits<Scalar>::infinity();
-  Scalar cursor = road_lo;
-  std::int16_t cursor_box = kRoadEdge;
-  for (int i = 0; i <= n; ++i) {  // n + 1 gaps
-    const bool last = i == n;
-    const Scalar gap_hi = last ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
-    const Scalar distance = ego_l < cursor ? cursor - ego_l : (ego_l > gap_hi ? ego_l - gap_hi : Scalar(0));
-    if (gap_hi > cursor && distance < best_distance) {
+  for_each_gap<Cfg>(boxes, sa, sb, road_lo, road_hi, [&](const Gap& g) {
+    const Scalar distance = ego_l < g.lo ? g.lo - ego_l : (ego_l > g.hi ? ego_l - g.hi : Scalar(0));
+    if (g.hi > g.lo && distance < best_distance) {
       best_distance = distance;
-      best.l_min = cursor;
-      best.l_max = gap_hi;
-      best.right_box = cursor_box;
-      best.left_box = last ? kRoadEdge : blocked[static_cast<std::size_t>(i)].box;
+      best = g;
     }
-    if (!last && blocked[static_cast<std::size_t>(i)].hi > cursor) {
-      cursor = blocked[static_cast<std::size_t>(i)].hi;
-      cursor_box = blocked[static_cast<std::size_t>(i)].box;
-    }
-  }
+  });
   if (best_distance < std::numeric_limits<Scalar>::infinity()) {
-    best.slice = 0;
-    static_cast<void>(out.zones.push_back(best));  // slice 0 has no other zone: capacity as add_slice_zones
+    Zone z;
+    z.slice = 0;
+    z.l_min = best.lo;
+    z.l_max = best.hi;
+    z.right_box = best.lo_box;
+    z.left_box = best.hi_box;
+    static_cast<void>(out.zones.push_back(z));  // slice 0 has no other zone: capacity as add_slice_zones
     ++out.slices[0].zone_count;
   }
 }
@@ -247,31 +251,12 @@ const Zone& BasicConvexSpace<Cfg>::successor(const Zone& z, int bit) const {
   return zones[static_cast<std::size_t>(next.first_zone + bit)];
 }
 
-// Calls gap(lo, hi) for every free l-interval of the road across [sa, sb]
-// beside the boxes overlapping it (n + 1 at most, some possibly empty).
-template <class Cfg, class Gap>
-void for_each_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa, Scalar sb,
-                       Gap&& gap) {
-  const Scalar road_lo = road.right.max_over(sa, sb);
-  const Scalar road_hi = road.left.min_over(sa, sb);
-  std::array<Interval, Cfg::kMaxDecisionObstacles> blocked{};
-  const int n = blocked_intervals(boxes, sa, sb, road_lo, road_hi, blocked);
-  Scalar cursor = road_lo;
-  for (int i = 0; i <= n; ++i) {  // n + 1 gaps
-    const Scalar hi = i == n ? road_hi : blocked[static_cast<std::size_t>(i)].lo;
-    gap(cursor, hi);
-    if (i < n && blocked[static_cast<std::size_t>(i)].hi > cursor) {
-      cursor = blocked[static_cast<std::size_t>(i)].hi;
-    }
-  }
-}
-
 template <class Cfg>
 Scalar widest_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa,
                        Scalar sb) {
   Scalar widest = 0;
-  for_each_free_gap(road, boxes, sa, sb, [&widest](Scalar lo, Scalar hi) {
-    widest = hi - lo > widest ? hi - lo : widest;
+  for_each_gap<Cfg>(boxes, sa, sb, road.right.max_over(sa, sb), road.left.min_over(sa, sb), [&widest](const Gap& g) {
+    widest = g.hi - g.lo > widest ? g.hi - g.lo : widest;
   });
   return widest;
 }
@@ -280,11 +265,11 @@ template <class Cfg>
 Scalar lateral_move_to_free_gap(const BasicRoadSl<Cfg>& road, std::span<const SlBox> boxes, Scalar sa, Scalar sb,
                                 Scalar l, Scalar width) {
   Scalar least = std::numeric_limits<Scalar>::infinity();
-  for_each_free_gap(road, boxes, sa, sb, [&](Scalar lo, Scalar hi) {
-    if (hi - lo < width) return;
+  for_each_gap<Cfg>(boxes, sa, sb, road.right.max_over(sa, sb), road.left.min_over(sa, sb), [&](const Gap& g) {
+    if (g.hi - g.lo < width) return;
     // The centre positions that fit: [lo + w/2, hi - w/2].
-    const Scalar a = lo + Scalar(0.5) * width;
-    const Scalar b = hi - Scalar(0.5) * width;
+    const Scalar a = g.lo + Scalar(0.5) * width;
+    const Scalar b = g.hi - Scalar(0.5) * width;
     const Scalar move = l < a ? a - l : (l > b ? l - b : Scalar(0));
     least = move < least ? move : least;
   });
