@@ -117,21 +117,28 @@ Outcome solve_once(Solver<D>& s, const Input& in, const Options& opt) {
     return out;
   }
   const bool same_shape = s.previous_qp != nullptr && s.previous_qp->n == in.qp.n && s.previous_qp->m == in.qp.m;
-  const bool hot = opt.hot && same_matrices(s.previous_qp, in.qp) && s.ws.factored;
+  const bool same = same_matrices(s.previous_qp, in.qp);
+  const bool hot = opt.hot && same && s.ws.factored;
+  // The chain solver's hot start: the same H and A as its last settled solve.
+  const bool chain_hot = opt.hot && same && !opt.general_only && s.ws.chain_stride > 0 && s.have_previous;
   const bool warm = (opt.warm || opt.hot) && !hot && same_shape && s.have_previous;
   const auto t0 = std::chrono::steady_clock::now();
   if (hot) {
     out.status = itp::qp::solve_hot(s.problem, s.ws, opt.settings, s.result);
-  } else if (warm) {
-    out.status = itp::qp::solve_warm(s.problem, s.ws, opt.settings, s.previous, s.result);
+  } else if (opt.general_only) {
+    out.status = warm ? itp::qp::solve_warm(s.problem, s.ws, opt.settings, s.previous, s.result)
+                      : itp::qp::solve_cold(s.problem, s.ws, opt.settings, s.result);
   } else {
-    // As the planner's StageQp: a chain-form file goes to the chain solver first.
-    out.status = opt.general_only ? itp::qp::solve_cold(s.problem, s.ws, opt.settings, s.result)
-                                  : itp::qp::solve_cold_structured(s.problem, s.ws, opt.settings, s.result);
+    // As the planner's StageQp: a chain-form file goes to the chain solver
+    // first, cold or from the previous file's working set.
+    out.status =
+        itp::qp::solve_structured(s.problem, s.ws, opt.settings, warm ? &s.previous : nullptr, s.result, chain_hot);
   }
   const auto t1 = std::chrono::steady_clock::now();
   out.time_us = std::chrono::duration<double, std::micro>(t1 - t0).count();
-  out.start = hot ? "hot" : (warm ? "warm" : "cold");
+  out.start = hot || (chain_hot && out.status == itp::qp::QpStatus::kOptimal && s.ws.chain_stride > 0)
+                  ? "hot"
+                  : (warm ? "warm" : "cold");
   s.previous = s.result.working_set;
   s.have_previous = itp::qp::is_usable(out.status);
   s.previous_qp = &in.qp;
@@ -300,8 +307,8 @@ int main(int argc, char** argv) {
       "fits: the planner's coarse (40 x 20), speed (45 x 210) and path (63 x 400) shapes, banded\n"
       "(n <= 160, m <= 800, <= 32 nonzeros per row, H half-bandwidth <= 16), general (n <= 160,\n"
       "m <= 1200, any structure). Chain-form files (the coarse shape: interleaved chains with\n"
-      "difference rows, docs/qp.md \"Chain solver\") are solved cold by the chain solver first, as\n"
-      "in the planner; restarts (--warm, --hot) use the general solver."};
+      "difference rows, docs/qp.md \"Chain solver\") go to the chain solver first, as in the planner:\n"
+      "cold, --warm from the previous working set, --hot also skipping the checks of H and A."};
   std::vector<std::string> files;
   Options opt;
   auto& st = opt.settings;

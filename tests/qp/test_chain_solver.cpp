@@ -410,3 +410,164 @@ TEST_CASE("chain solver: in float (the low-RAM image) it agrees with the general
   }
   CHECK(compared >= 50);
 }
+
+namespace {
+
+// A random working set over the problem's bounds and rows (a guess that is
+// mostly wrong), for warm starts.
+template <class D>
+void random_working_set(const QpProblem<D>& p, std::mt19937& rng, WorkingSet<D>& w) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  w.clear();
+  for (int j = 0; j < p.n; ++j) {
+    if (u(rng) < 0.3) static_cast<void>(w.push(j, true, u(rng) < 0.5 ? -1 : 1));
+  }
+  for (int r = 0; r < p.m; ++r) {
+    if (u(rng) < 0.3) static_cast<void>(w.push(r, false, u(rng) < 0.5 ? -1 : 1));
+  }
+}
+
+// g and the bounds moved, H and A kept (what a planner restart changes).
+template <class D>
+void move_vectors(QpProblem<D>& p, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int j = 0; j < p.n; ++j) {
+    p.g[j] += 2.0 * u(rng);
+    if (p.lb[j] < p.ub[j]) {  // fixed stay fixed
+      const double shift = 0.2 * u(rng);
+      p.lb[j] += shift;
+      p.ub[j] += shift;
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("chain solver: warm starts from the optimal, a random and another problem's working set agree with the general solver") {
+  auto k = std::make_unique<Case<Two>>();
+  auto other = std::make_unique<Case<Two>>();
+  auto warm = std::make_unique<QpResult<Two>>();
+  auto guess = std::make_unique<WorkingSet<Two>>();
+  std::mt19937 rng(31);
+  int compared = 0, direct = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    build_chain(k->p, 20 + trial % 21, 2, rng, trial % 3 == 0);
+    build_chain(other->p, k->p.n, 2, rng, trial % 3 == 1);
+    const QpStatus general = solve_cold(k->p, k->ws, k->settings, k->general);
+    if (general != QpStatus::kOptimal) continue;
+    static_cast<void>(solve_chain(other->p, other->ws, other->settings, other->chain));
+    for (int start = 0; start < 3; ++start) {
+      if (start == 0) *guess = k->general.working_set;
+      if (start == 1) random_working_set(k->p, rng, *guess);
+      if (start == 2) *guess = other->chain.working_set;
+      ChainVerdict v;
+      {
+        test_support::HeapGuard heap;
+        v = solve_chain(k->p, k->ws, k->settings, *warm, guess.get());
+      }
+      if (v == ChainVerdict::kUseGeneralSolver) continue;  // allowed, never a wrong answer
+      REQUIRE(warm->status == QpStatus::kOptimal);
+      CHECK(kkt_residual(k->p, *warm).max() <= 1e-8);
+      CHECK(warm->objective == doctest::Approx(k->general.objective).epsilon(1e-9));
+      // From the optimal working set each chain needs one equality solve.
+      if (start == 0) direct += warm->refactorisations == 2 && warm->iterations == 0;
+      ++compared;
+    }
+  }
+  CHECK(compared >= 300);
+  CHECK(direct >= 90);
+}
+
+TEST_CASE("chain solver: small chains warm from random working sets against a brute force over every face") {
+  auto k = std::make_unique<Case<One>>();
+  auto guess = std::make_unique<WorkingSet<One>>();
+  std::mt19937 rng(41);
+  int compared = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    build_chain(k->p, 3 + trial % 3, 1, rng, trial % 2 == 0);
+    const double best = brute_force_optimum(k->p);
+    if (!std::isfinite(best)) continue;
+    random_working_set(k->p, rng, *guess);
+    if (solve_chain(k->p, k->ws, k->settings, k->chain, guess.get()) != ChainVerdict::kSettled) continue;
+    REQUIRE(k->chain.status == QpStatus::kOptimal);
+    CHECK(k->chain.objective == doctest::Approx(best).epsilon(1e-8));
+    ++compared;
+  }
+  CHECK(compared >= 25);
+}
+
+TEST_CASE("chain solver: hot starts (same H and A) agree with the general solver; the checks of H and A are skipped only after a settled chain solve") {
+  auto k = std::make_unique<Case<Two>>();    // the chain solver's workspace
+  auto ref = std::make_unique<Case<Two>>();  // the general solver's, apart
+  std::mt19937 rng(43);
+  int hot = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    build_chain(k->p, 40, 2, rng, trial % 2 == 0);
+    if (solve_chain(k->p, k->ws, k->settings, k->chain) != ChainVerdict::kSettled) continue;
+    REQUIRE(k->ws.chain_stride == 2);
+    const WorkingSet<Two> last = k->chain.working_set;
+    move_vectors(k->p, rng);  // a restart: new g and bounds on the same H and A
+    ref->p = k->p;
+    const QpStatus general = solve_cold(ref->p, ref->ws, ref->settings, ref->general);
+    const ChainVerdict v = solve_chain(k->p, k->ws, k->settings, k->chain, &last, true);
+    if (v == ChainVerdict::kUseGeneralSolver) {
+      CHECK(general != QpStatus::kOptimal);
+      continue;
+    }
+    REQUIRE(k->chain.status == QpStatus::kOptimal);
+    REQUIRE(general == QpStatus::kOptimal);
+    CHECK(kkt_residual(k->p, k->chain).max() <= 1e-8);
+    CHECK(k->chain.objective == doctest::Approx(ref->general.objective).epsilon(1e-9));
+    ++hot;
+  }
+  CHECK(hot >= 30);
+
+  // g and the bounds are still checked on a hot start.
+  build_chain(k->p, 40, 2, rng, false);
+  REQUIRE(solve_chain(k->p, k->ws, k->settings, k->chain) == ChainVerdict::kSettled);
+  const WorkingSet<Two> last = k->chain.working_set;
+  k->p.g[3] = std::numeric_limits<double>::quiet_NaN();
+  CHECK(solve_chain(k->p, k->ws, k->settings, k->chain, &last, true) == ChainVerdict::kSettled);
+  CHECK(k->chain.status == QpStatus::kInvalidInput);
+  // After a general solve in the workspace (no chain solve to rely on) a hot
+  // call checks H again.
+  build_chain(k->p, 40, 2, rng, false);
+  REQUIRE(solve_chain(k->p, k->ws, k->settings, k->chain) == ChainVerdict::kSettled);
+  static_cast<void>(solve_cold(k->p, k->ws, k->settings, k->general));
+  CHECK(k->ws.chain_stride == 0);
+  k->p.h_band[7][0] = std::numeric_limits<double>::quiet_NaN();
+  CHECK(solve_chain(k->p, k->ws, k->settings, k->chain, &last, true) == ChainVerdict::kSettled);
+  CHECK(k->chain.status == QpStatus::kInvalidInput);
+}
+
+TEST_CASE("chain solver: bounds implied by the links left of them never enter the working set (the coarse QP's time staircase)") {
+  auto k = std::make_unique<Case<One>>();
+  // x_0 = 0, x_q >= 0.3 q (the staircase) and x_{q+1} - x_q >= 0.3: every
+  // bound past the first follows from the links; g pulls every x below it.
+  REQUIRE(k->p.reset(12, 11));
+  for (int q = 0; q < 12; ++q) {
+    k->p.set_hessian(q, q, 1.0);
+    k->p.g[q] = 1.0;
+    k->p.lb[q] = 0.3 * q;
+    k->p.ub[q] = kInf;
+  }
+  k->p.ub[0] = 0.0;
+  for (int r = 0; r < 11; ++r) {
+    REQUIRE(k->p.push_row_entry(r, r, -1));
+    REQUIRE(k->p.push_row_entry(r, r + 1, 1));
+    k->p.lba[r] = 0.3;
+    k->p.uba[r] = kInf;
+  }
+  REQUIRE(solve_chain(k->p, k->ws, k->settings, k->chain) == ChainVerdict::kSettled);
+  REQUIRE(k->chain.status == QpStatus::kOptimal);
+  CHECK(kkt_residual(k->p, k->chain).max() <= 1e-10);
+  for (int q = 0; q < 12; ++q) CHECK(k->chain.x[q] == doctest::Approx(0.3 * q).epsilon(1e-12));  // analytic
+  int bounds = 0, links = 0;
+  for (int i = 0; i < k->chain.working_set.size; ++i) {
+    const ActiveConstraint& e = k->chain.working_set.entries[i];
+    if (e.is_bound != 0 && e.index > 0) ++bounds;
+    if (e.is_bound == 0) ++links;
+  }
+  CHECK(bounds == 0);
+  CHECK(links == 11);
+}

@@ -25,13 +25,11 @@ int find_stride(const QpProblem<D>& p, int max_length, std::uint8_t* seen) {
   for (int k = 1; k <= kMaxStride; ++k) {  // <= 2 strides tried
     if ((p.n + k - 1) / k > max_length || 2 * k > D::kBandwidth) continue;
     bool fits = true;
-    for (int i = 0; i < p.n; ++i) {  // < N rows of the band
-      for (int off = 1; off <= D::kBandwidth && off <= i; ++off) {  // <= Bw
-        const bool allowed = off % k == 0 && off <= 2 * k;
-        fits = fits && (allowed || p.h_band[i][off] == typename D::Scalar(0));
-      }
-      seen[i] = 0;
+    for (int off = 1; off <= D::kBandwidth; ++off) {  // <= Bw band columns
+      if (off % k == 0 && off <= 2 * k) continue;     // a coupling the chains may have
+      for (int i = off; i < p.n; ++i) fits = fits & (p.h_band[i][off] == typename D::Scalar(0));  // < N
     }
+    for (int i = 0; i < p.n; ++i) seen[i] = 0;  // < N
     for (int r = 0; r < p.m && fits; ++r) {  // < M rows
       const int j = p.a_nnz[r] == 2 ? p.a_col[r][0] : -1;
       fits = j >= 0 && p.a_col[r][1] == j + k && p.a_val[r][1] > typename D::Scalar(0) &&
@@ -43,9 +41,7 @@ int find_stride(const QpProblem<D>& p, int max_length, std::uint8_t* seen) {
   return 0;
 }
 
-// Every K-th entry from `first` on: of a problem vector (a chain's g, lb, ub)
-// or of one band column of H (a diagonal of the chain's H). Views, not
-// copies, to keep the solver's stack frame small.
+// Every K-th entry of a problem vector from `first` on (a chain's g, lb, ub).
 template <class S>
 struct StridedVector {
   const S* v = nullptr;
@@ -53,41 +49,47 @@ struct StridedVector {
   int step = 1;
   S operator[](int q) const { return v[first + q * step]; }
 };
-template <class S, std::size_t W>
-struct StridedBand {
-  const S (*rows)[W] = nullptr;
-  int first = 0;
-  int step = 1;
-  int column = 0;
-  S operator[](int q) const { return rows[first + q * step][column]; }
-};
 
-// One chain: positions q = 0..n-1 are the problem's variables first + q K.
+// One chain: positions q = 0..n-1 are the problem's variables first + q K,
+// H's diagonals copied out of the problem once per solve (each entry is read
+// several times per equality solve; contiguous copies cost less than strided
+// reads).
+// H's three diagonals are stored with kPad zeros either side, so that
+//   (Hx)_q = h2[q-2] x[q-2] + h1[q-1] x[q-1] + h0[q] x[q] + h1[q] x[q+1] + h2[q] x[q+2]
+// needs no test at the chain's ends (with x padded the same way).
 template <class D, int kMaxLength>
 struct ChainData {
   using S = typename D::Scalar;
+  static constexpr int kPad = 2;
   static constexpr std::size_t kLz = static_cast<std::size_t>(kMaxLength);
-  static constexpr std::size_t kBandz = static_cast<std::size_t>(D::kBandwidth + 1);
+  static constexpr std::size_t kPadded = kLz + 2 * kPad;
   int n = 0;
   int first = 0;
   int stride = 1;
-  StridedBand<S, kBandz> h0, h1, h2;  // H(q, q), H(q + 1, q), H(q + 2, q): h1 for q + 1 < n, h2 for q + 2 < n
-  StridedVector<S> g, lb, ub;
+  S h0_[kPadded], h1_[kPadded], h2_[kPadded];  // [q + kPad]: H(q, q), H(q + 1, q), H(q + 2, q); 0 off the chain
+  StridedVector<S> g, lb, ub;  // read in place (fewer reads than H; keeps the stack frame small)
   S link_lo[kLz], link_hi[kLz];  // x_{q+1} - x_q in [lo, hi]; -inf / +inf: no link row
   std::int16_t link_row[kLz];    // the row behind link q, or -1
 
   int var(int q) const { return first + q * stride; }
+  // Diagonals indexed by position, valid for q in [-kPad, n + kPad).
+  const S* h0() const { return h0_ + kPad; }
+  const S* h1() const { return h1_ + kPad; }
+  const S* h2() const { return h2_ + kPad; }
 
   // y = H x along the chain (pentadiagonal).
   void multiply(const S* x, S* y) const {
-    for (int q = 0; q < n; ++q) y[q] = h0[q] * x[q];  // < kMaxLength
+    const S* d0 = h0();
+    const S* d1 = h1();
+    const S* d2 = h2();
+    for (int q = 0; q < n; ++q) y[q] = d0[q] * x[q];  // < kMaxLength
     for (int q = 0; q + 1 < n; ++q) {                // < kMaxLength
-      y[q] += h1[q] * x[q + 1];
-      y[q + 1] += h1[q] * x[q];
+      y[q] += d1[q] * x[q + 1];
+      y[q + 1] += d1[q] * x[q];
     }
     for (int q = 0; q + 2 < n; ++q) {  // < kMaxLength
-      y[q] += h2[q] * x[q + 2];
-      y[q + 2] += h2[q] * x[q];
+      y[q] += d2[q] * x[q + 2];
+      y[q + 2] += d2[q] * x[q];
     }
   }
 };
@@ -102,13 +104,21 @@ void gather(const QpProblem<D>& p, int k, int c, ChainData<D, kMaxLength>& ch) {
   ch.first = c;
   ch.stride = k;
   ch.n = (p.n - c + k - 1) / k;
-  ch.h0 = {p.h_band, c, k, 0};
-  ch.h1 = {p.h_band, c + k, k, k};
-  ch.h2 = {p.h_band, c + 2 * k, k, 2 * k};
   ch.g = {p.g, c, k};
   ch.lb = {p.lb, c, k};
   ch.ub = {p.ub, c, k};
-  for (int q = 0; q < ch.n; ++q) {  // < kMaxLength
+  const int n = ch.n < kMaxLength ? ch.n : kMaxLength;
+  for (std::size_t i = 0; i < ChainData<D, kMaxLength>::kPadded; ++i) {  // < L + 4
+    ch.h0_[i] = ch.h1_[i] = ch.h2_[i] = S(0);
+  }
+  S* h0 = ch.h0_ + ChainData<D, kMaxLength>::kPad;
+  S* h1 = ch.h1_ + ChainData<D, kMaxLength>::kPad;
+  S* h2 = ch.h2_ + ChainData<D, kMaxLength>::kPad;
+  for (int q = 0; q < n; ++q) {  // < kMaxLength
+    const int j = c + q * k;
+    h0[q] = p.h_band[j][0];
+    if (q + 1 < n) h1[q] = p.h_band[j + k][k];
+    if (q + 2 < n) h2[q] = p.h_band[j + 2 * k][2 * k];
     ch.link_row[q] = -1;
     ch.link_lo[q] = -inf;
     ch.link_hi[q] = inf;

@@ -8,8 +8,8 @@
 // the iteration cap. So kInfeasible, kNotConvex and kNumericalTrouble keep
 // the general solver's certificates (solver.hpp).
 //
-// Memory: the chain's link bounds and the solver state live on the stack
-// (~18 arrays of Chain scalars, docs/qp.md); H, g and the bounds are read in place.
+// Memory: one chain's copy of the data (ChainData) and the solver state live
+// on the stack (~25 arrays of Chain scalars, docs/qp.md).
 #include <cstdint>
 
 #include "itp/qp/chain_form.hpp"
@@ -33,6 +33,23 @@ namespace chain {
 // stack instead of a second WorkingSet).
 inline std::uint8_t side_code(int side) { return side < 0 ? 1 : 2; }
 inline int code_side(int code) { return code == 1 ? -1 : 1; }
+
+// Chain c's share of a working set (a warm start's guess): its bounds, and
+// its link rows (row r links a_col[r][0] = c + q K to the next position).
+template <class D, int L>
+void guess(const QpProblem<D>& p, const WorkingSet<D>& start, int k, int c, ChainSolver<D, L>& solver) {
+  for (int i = 0; i < start.size && i < D::kMaxActive; ++i) {  // < N + 1
+    const ActiveConstraint& e = start.entries[i];
+    const int j = e.is_bound != 0 ? e.index : (e.index >= 0 && e.index < p.m ? p.a_col[e.index][0] : -1);
+    if (j < 0 || j >= p.n || j % k != c) continue;
+    const std::int8_t side = e.side < 0 ? kLower : kUpper;
+    if (e.is_bound != 0) {
+      solver.guess_bound(j / k, side);
+    } else {
+      solver.guess_link(j / k, side);
+    }
+  }
+}
 
 // x, multipliers and the packed marks of chain c into the result.
 template <class D, int L>
@@ -68,12 +85,16 @@ void write_working_set(const QpProblem<D>& p, const std::uint8_t* marks, QpResul
 
 }  // namespace chain
 
-// A cold solve of `p` with the chain solver. `ws` lends its objective
-// scratch and is marked unfactored when the chain solver settles (it then
-// holds no factor of this problem's H).
+// A solve of `p` with the chain solver: cold, or from the working set `start`
+// (a warm start: its constraints are the first guess of the active set).
+// `same_matrices`: H and A are those of the last solve with `ws`, which the
+// chain solver settled (a hot start: their checks and the chain shape are
+// skipped, as the general solver's hotstart skips its factorisation; ignored
+// unless ws.chain_stride says so). When it settles, `ws` is marked
+// unfactored (it then holds no factor of this problem's H).
 template <class D>
 ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSettings<typename D::Scalar>& settings,
-                         QpResult<D>& res) {
+                         QpResult<D>& res, const WorkingSet<D>* start = nullptr, bool same_matrices = false) {
   using S = typename D::Scalar;
   constexpr int L = D::kMaxChainLength > 0 ? D::kMaxChainLength : 1;
   res.iterations = 0;
@@ -81,15 +102,19 @@ ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSett
   res.proximal_steps = 0;
   res.certificate_residual = S(0);
   res.certificate_gap = S(0);
-  if (!is_valid(p)) {
+  const int held_stride = ws.chain_stride;
+  const bool hot = same_matrices && held_stride > 0;
+  ws.chain_stride = 0;
+  if (!(hot ? is_valid_vectors(p) : is_valid(p))) {
     res.working_set.clear();
     res.status = QpStatus::kInvalidInput;
     return ChainVerdict::kSettled;
   }
   std::uint8_t marks[static_cast<std::size_t>(D::kMaxVariables)];  // find_stride's scratch, then the marks
-  const int k = D::kMaxChainLength > 0 ? chain::find_stride(p, L, marks) : 0;
+  const int k = hot ? held_stride : (D::kMaxChainLength > 0 ? chain::find_stride(p, L, marks) : 0);
   if (k == 0) return ChainVerdict::kUseGeneralSolver;
   for (int r = 0; r < p.m; ++r) res.y_rows[r] = S(0);  // < M
+  res.objective = S(0);
   const int cap = (settings.max_iterations > 0 && settings.max_iterations < D::kMaxIterations)
                       ? settings.max_iterations
                       : D::kMaxIterations;
@@ -97,40 +122,50 @@ ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSett
     chain::ChainData<D, L> ch;
     chain::gather(p, k, c, ch);
     chain::ChainSolver<D, L> solver(ch, settings);
-    const bool solved = solver.solve(cap - res.iterations, res.iterations);
+    if (start != nullptr) chain::guess(p, *start, k, c, solver);
+    const bool solved = solver.solve(cap - res.iterations, res.iterations, start != nullptr);
     res.refactorisations += solver.factorisations();
     if (!solved) return ChainVerdict::kUseGeneralSolver;
     chain::store(p, ch, solver, res, marks);
+    res.objective += solver.objective();
   }
   chain::write_working_set(p, marks, res);
-  res.objective = objective_value(p, res.x, ws.scratch2);
   res.status = QpStatus::kOptimal;
   ws.factored = false;
+  ws.chain_stride = k;
   return ChainVerdict::kSettled;
 }
 
-// A cold solve that uses the chain solver where D allows it (Chain > 0):
-// what it cannot settle goes to solve_cold with what is left of the iteration
-// cap, and the result counts both solvers' iterations. Else solve_cold.
+// A solve that uses the chain solver where D allows it (Chain > 0), cold
+// (`start` null) or from the working set `start` (and with `same_matrices`,
+// see solve_chain, hot): what it cannot settle goes
+// to the general solver (solve_cold, or solve_warm from `start`) with what is
+// left of the iteration cap, and the result counts both solvers' iterations.
+// Without a chain capacity, the general solver alone.
 template <class D>
-QpStatus solve_cold_structured(const QpProblem<D>& p, QpWorkspace<D>& ws,
-                               const QpSettings<typename D::Scalar>& settings, QpResult<D>& res) {
+QpStatus solve_structured(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSettings<typename D::Scalar>& settings,
+                          const WorkingSet<D>* start, QpResult<D>& res, bool same_matrices = false) {
+  int used = 0;
+  QpSettings<typename D::Scalar> rest = settings;
   if constexpr (D::kMaxChainLength > 0) {
-    if (solve_chain(p, ws, settings, res) == ChainVerdict::kSettled) return res.status;
-    const int used = res.iterations;
+    if (solve_chain(p, ws, settings, res, start, same_matrices) == ChainVerdict::kSettled) return res.status;
+    used = res.iterations;
     const int cap = settings.max_iterations > 0 ? settings.max_iterations : D::kMaxIterations;
     if (used >= cap) {
       res.status = QpStatus::kIterationLimit;
       return res.status;
     }
-    QpSettings<typename D::Scalar> rest = settings;
     rest.max_iterations = cap - used;
-    const QpStatus st = solve_cold(p, ws, rest, res);
-    res.iterations += used;
-    return st;
-  } else {
-    return solve_cold(p, ws, settings, res);
   }
+  const QpStatus st = start != nullptr ? solve_warm(p, ws, rest, *start, res) : solve_cold(p, ws, rest, res);
+  res.iterations += used;
+  return res.status = st;
+}
+
+template <class D>
+QpStatus solve_cold_structured(const QpProblem<D>& p, QpWorkspace<D>& ws,
+                               const QpSettings<typename D::Scalar>& settings, QpResult<D>& res) {
+  return solve_structured(p, ws, settings, static_cast<const WorkingSet<D>*>(nullptr), res);
 }
 
 }  // namespace itp::qp

@@ -1,6 +1,6 @@
 #pragma once
-// Primal active-set solver for one chain (chain_form.hpp), docs/qp.md
-// "Chain solver". Why a second solver: on a chain every working set W is a
+// Active-set solver for one chain (chain_form.hpp), docs/qp.md "Chain
+// solver". Why a second solver: on a chain every working set W is a
 // partition of the positions into segments (runs joined by active links),
 // each either free or fixed by one active bound. Eliminating W leaves one
 // unknown y_s per free segment,
@@ -9,9 +9,10 @@
 // only with segments at most two positions away). So every equality-
 // constrained subproblem costs O(n) from scratch, and W may change by many
 // constraints at once: the start clamps the unconstrained optimum onto the
-// feasible set and takes every constraint it clamps against as active (one
-// primal-dual active-set step), and the primal iterations then repair that
-// guess: add the blocking constraint, or drop the constraints whose
+// feasible set and takes every constraint it clamps against as active;
+// primal-dual exchange rounds (or, warm, a guessed W) then change W many
+// constraints per solve, and the primal loop, which terminates, repairs what
+// they leave: add the blocking constraint, or drop the constraints whose
 // multipliers have the wrong sign (solve() says when one at a time).
 //
 // Multipliers along a segment a..b with its bound (if any) at k*
@@ -39,14 +40,36 @@ class ChainSolver {
   using S = typename D::Scalar;
  public:
   static constexpr std::size_t kLz = static_cast<std::size_t>(L);
+  // Exchange rounds (exchange_rounds) tried before the primal loop: on a
+  // chain with link rows, from the clamped start or a warm start's guess; on
+  // one without, only a warm start's guess is tested (one round), as there
+  // the exchange often cycles (measured: docs/qp.md, "Chain solver").
+  static constexpr int kExchangeRounds = 4;
+  static constexpr int kGuessRoundsUnlinked = 1;
 
-  ChainSolver(const ChainData<D, L>& chain, const QpSettings<S>& settings) : ch_(chain), s_(settings) {}
+  ChainSolver(const ChainData<D, L>& chain, const QpSettings<S>& settings) : ch_(chain), s_(settings) {
+    clear_marks();
+    find_implied();
+  }
 
-  // A cold solve: up to `cap` working-set changes, added to `iterations`. True
-  // with x() optimal (KKT within the tolerances, x feasible); false when the
-  // chain is infeasible, its reduced H not positive definite, or the cap or
-  // a check is hit: the general solver must settle the problem.
-  bool solve(int cap, int& iterations);
+  // A warm start's guess, before solve(): one constraint of the last working
+  // set. Ignored where the chain has no such bound or link (an infinite
+  // value, no link row), at fixed positions and for implied bounds.
+  void guess_bound(int q, std::int8_t side) {
+    if (q < 0 || q >= length() || bound_[q] == kFixed || implied(q, side)) return;
+    if (std::fabs(bound_value(q, side)) < std::numeric_limits<S>::infinity()) bound_[q] = side;
+  }
+  void guess_link(int q, std::int8_t side) {
+    if (q < 0 || q + 1 >= length() || ch_.link_row[q] < 0) return;
+    if (std::fabs(link_value(q, side)) < std::numeric_limits<S>::infinity()) link_[q] = side;
+  }
+
+  // A solve: cold, or (from_guess) first from the guessed marks. Up to `cap`
+  // working-set changes in all, added to `iterations`. True with
+  // x() optimal (KKT within the tolerances, x feasible); false when the chain
+  // is infeasible, its reduced H not positive definite, or the cap or a
+  // check is hit: the general solver must settle the problem.
+  bool solve(int cap, int& iterations, bool from_guess = false);
 
   const S* x() const { return x_; }
   int factorisations() const { return factorisations_; }  // equality solves, each from scratch
@@ -55,6 +78,13 @@ class ChainSolver {
   S link_multiplier(int q) const { return rhs_[q]; }
   std::int8_t bound_mark(int q) const { return bound_[q]; }
   std::int8_t link_mark(int q) const { return link_[q]; }
+  // The chain's part of the objective, 1/2 x'Hx + g'x = 1/2 x'(r + g) with
+  // r = Hx + g from the last multipliers() (H couples no two chains).
+  S objective() const {
+    S sum = S(0);
+    for (int q = 0; q < length(); ++q) sum += x_[q] * (r_[q] + ch_.g[q]);  // < L
+    return S(0.5) * sum;
+  }
 
  private:
   // W = the fixed variables only (lb == ub).
@@ -64,12 +94,16 @@ class ChainSolver {
       link_[q] = kInactive;
     }
   }
+  void find_implied();
+  // Bound `side` of position q follows from the constraints left of it.
+  bool implied(int q, std::int8_t side) const { return (implied_[q] & (side == kUpper ? 2 : 1)) != 0; }
   void independent_marks();
   bool equality_solve();
   int feasible_start();
   S multipliers(S& hx_scale);
   int ratio_test(S& alpha, int& kind, std::int8_t& side) const;
   bool final_check() const;
+  int exchange_rounds(int rounds, int limit, int& changes, S dual_tol, S g_scale);
   // The chain's length, visibly at most L (for the compiler's bounds checks
   // as much as for the reader: gather() never makes it longer).
   int length() const { return ch_.n < L ? ch_.n : L; }
@@ -81,21 +115,48 @@ class ChainSolver {
   int factorisations_ = 0;
   std::int8_t bound_[kLz];       // per position
   std::int8_t link_[kLz];        // per link q -> q + 1
+  std::uint8_t implied_[kLz];    // per position: bit 0 its lower bound implied, bit 1 its upper
   std::int16_t segment_[kLz];    // segment of position q
   std::int16_t free_[kLz];       // free index of segment s, -1: fixed
   std::int16_t position_free_[kLz + 2];  // [q + 2]: free index of position q's segment, -1: fixed
   S x0_[kLz + 4];                // [q + 2]: x with every free y = 0; 0 outside the chain
-  S base_[kLz];                  // value of segment s at offset 0 (0 while free)
   // o_q during an equality solve; after it (multipliers()) the bound multipliers
   S offset_[kLz];
   S x_[kLz];                     // feasible iterate
   S xe_[kLz];                    // equality-constrained optimum for W
   S r_[kLz];                     // H x + g
-  S band_[kLz][3];               // reduced Hessian, lower band (half-bandwidth 2)
-  S factor_[kLz][3];
-  // Z'(-Hx0 - g), then y, during an equality solve; after it the link multipliers
+  S band_[kLz][3];               // reduced Hessian, lower band (half-bandwidth 2), factored in place
+  // During an equality solve first the value of segment s at offset 0 (0
+  // while free), then Z'(-Hx0 - g), then y; after it the link multipliers
   S rhs_[kLz];
 };
+
+// Bounds implied by the constraints left of them, to rounding: lb_q <= (the
+// least x_{q-1} can be) + link_lo + tol (1 + |lb_q|), and likewise above. The
+// coarse QP's time chain has runs of them (its lower bounds a staircase of
+// minimum steps, so a bound and the link beside it are tight together), and
+// exchanging such a bound for that link costs an equality solve each time
+// without moving x. An implied bound never enters the marks; final_check()
+// still checks it. The reach is carried without the implied bounds, so
+// x_q >= lb_q - tol (1 + |lb_q|) holds for each one, without accumulating.
+template <class D, int L>
+void ChainSolver<D, L>::find_implied() {
+  if (length() < 1) return;
+  const S tol = s_.primal_tolerance;
+  S reach_lo = ch_.lb[0];
+  S reach_hi = ch_.ub[0];
+  implied_[0] = 0;
+  for (int q = 1; q < length(); ++q) {  // < L
+    const S from_lo = reach_lo + ch_.link_lo[q - 1];
+    const S from_hi = reach_hi + ch_.link_hi[q - 1];
+    const S lb = ch_.lb[q], ub = ch_.ub[q];
+    const bool lo_implied = bound_[q] != kFixed && lb <= from_lo + tol * (S(1) + std::fabs(lb));
+    const bool hi_implied = bound_[q] != kFixed && ub >= from_hi - tol * (S(1) + std::fabs(ub));
+    implied_[q] = static_cast<std::uint8_t>((lo_implied ? 1 : 0) | (hi_implied ? 2 : 0));
+    reach_lo = lo_implied ? from_lo : (lb > from_lo ? lb : from_lo);
+    reach_hi = hi_implied ? from_hi : (ub < from_hi ? ub : from_hi);
+  }
+}
 
 // Keeps the marks linearly independent: at most one bound per segment.
 // Scanning left to right, a link that would join two bounded segments, or a
@@ -119,11 +180,12 @@ bool ChainSolver<D, L>::equality_solve() {
   const int n = length();
   int segments = 0;
   S offset = S(0);
+  S* base = rhs_;  // per segment its value at offset 0 (0 while free); rhs_ is assembled after x0
   for (int q = 0; q < n; ++q) {  // < L: segments, offsets, fixed values
     if (q == 0 || link_[q - 1] == kInactive) {
       offset = S(0);
       free_[segments] = 0;
-      base_[segments] = S(0);
+      base[segments] = S(0);
       ++segments;
     } else {
       offset += link_value(q - 1, link_[q - 1]);
@@ -132,7 +194,7 @@ bool ChainSolver<D, L>::equality_solve() {
     segment_[q] = static_cast<std::int16_t>(segments - 1);
     if (bound_[q] != kInactive) {
       free_[segments - 1] = -1;
-      base_[segments - 1] = bound_value(q, bound_[q]) - offset;
+      base[segments - 1] = bound_value(q, bound_[q]) - offset;
     }
   }
   int free_count = 0;
@@ -144,26 +206,22 @@ bool ChainSolver<D, L>::equality_solve() {
   for (int q = 0; q < n; ++q) {  // < L: x0 (every free y = 0), each position's free index
     const int k = segment_[q];
     position_free_[q + 2] = free_[k];
-    x0_[q + 2] = offset_[q] + base_[k];
+    x0_[q + 2] = offset_[q] + base[k];
   }
   x0_[n + 2] = x0_[n + 3] = S(0);
   // Row f of Z'HZ and of -Z'(H x0 + g), pulled position by position: each
-  // pair (q', q), q' < q, enters at the later position q, in row f(q).
-  const auto& h0 = ch_.h0;
-  const auto& h1 = ch_.h1;
-  const auto& h2 = ch_.h2;
+  // pair (q', q), q' < q, enters at the later position q, in row f(q). The
+  // padding (ChainData) makes every term off the chain 0 * 0.
+  const S* h0 = ch_.h0();
+  const S* h1 = ch_.h1();
+  const S* h2 = ch_.h2();
   const auto& g = ch_.g;
   const S* x0 = x0_ + 2;          // x0[-2], x0[-1], x0[n], x0[n+1] are 0
   const std::int16_t* pf = position_free_ + 2;  // pf[-2], pf[-1] are -1
   for (int q = 0; q < n; ++q) {  // < L
     const int f = pf[q];
     if (f < 0) continue;
-    const S h1_before = q >= 1 ? h1[q - 1] : S(0);
-    const S h2_before = q >= 2 ? h2[q - 2] : S(0);
-    const S h1_after = q + 1 < n ? h1[q] : S(0);
-    const S h2_after = q + 2 < n ? h2[q] : S(0);
-    const S hx = h2_before * x0[q - 2] + h1_before * x0[q - 1] + h0[q] * x0[q] + h1_after * x0[q + 1] +
-                 h2_after * x0[q + 2];
+    const S hx = h2[q - 2] * x0[q - 2] + h1[q - 1] * x0[q - 1] + h0[q] * x0[q] + h1[q] * x0[q + 1] + h2[q] * x0[q + 2];
     const int f1 = pf[q - 1];
     const int f2 = pf[q - 2];
     if (f1 != f && f2 != f) {  // q starts its segment: a new row
@@ -172,12 +230,15 @@ bool ChainSolver<D, L>::equality_solve() {
     }
     rhs_[f] -= hx + g[q];
     band_[f][0] += h0[q];
-    if (f1 >= 0) band_[f][f - f1] += f1 == f ? S(2) * h1_before : h1_before;
-    if (f2 >= 0) band_[f][f - f2] += f2 == f ? S(2) * h2_before : h2_before;
+    // Branch-free: a fixed neighbour (f' < 0) adds 0 to the diagonal.
+    const S w1 = f1 < 0 ? S(0) : (f1 == f ? S(2) : S(1));
+    const S w2 = f2 < 0 ? S(0) : (f2 == f ? S(2) : S(1));
+    band_[f][f1 < 0 ? 0 : f - f1] += w1 * h1[q - 1];
+    band_[f][f2 < 0 ? 0 : f - f2] += w2 * h2[q - 2];
   }
   if (free_count > 0) {
-    if (!penta::factor(band_, factor_, free_count)) return false;
-    penta::solve(factor_, free_count, rhs_);
+    if (!penta::factor(band_, band_, free_count)) return false;
+    penta::solve(band_, free_count, rhs_);
   }
   for (int q = 0; q < n; ++q) {  // < L
     const int f = pf[q];
@@ -209,13 +270,15 @@ int ChainSolver<D, L>::feasible_start() {
   int moved = 0;
   for (int q = 0; q < length(); ++q) {  // < L
     S lo = reach_lo[q], hi = reach_hi[q];
-    std::int8_t lo_by = lo == ch_.lb[q] ? std::int8_t(1) : std::int8_t(0);  // 1 bound, 2 link
-    std::int8_t hi_by = hi == ch_.ub[q] ? std::int8_t(1) : std::int8_t(0);
+    // By what x is clamped: 1 its bound, 2 the link, 0 a later constraint
+    // (the reach); an implied bound is never the one, the link is.
+    std::int8_t lo_by = lo == ch_.lb[q] && !implied(q, kLower) ? std::int8_t(1) : std::int8_t(0);
+    std::int8_t hi_by = hi == ch_.ub[q] && !implied(q, kUpper) ? std::int8_t(1) : std::int8_t(0);
     if (q > 0) {
       const S a = x_[q - 1] + ch_.link_lo[q - 1];
       const S b = x_[q - 1] + ch_.link_hi[q - 1];
-      if (a > lo) lo = a, lo_by = 2;
-      if (b < hi) hi = b, hi_by = 2;
+      if (a > lo || (implied(q, kLower) && lo == ch_.lb[q])) lo = a, lo_by = 2;
+      if (b < hi || (implied(q, kUpper) && hi == ch_.ub[q])) hi = b, hi_by = 2;
     }
     if (hi < lo) hi = lo;  // rounding of the reach: keep the lower end
     const S target = xe_[q];
@@ -283,19 +346,19 @@ int ChainSolver<D, L>::ratio_test(S& alpha, int& kind, std::int8_t& side) const 
   side = kInactive;
   int which = -1;
   for (int q = 0; q < length(); ++q) {  // < L
-    if (bound_[q] != kInactive || free_[segment_[q]] < 0) continue;
+    if (bound_[q] != kInactive || position_free_[q + 2] < 0) continue;
     const S p = xe_[q] - x_[q];
-    if (p < S(0) && ch_.lb[q] > -std::numeric_limits<S>::infinity()) {
+    if (p < S(0) && ch_.lb[q] > -std::numeric_limits<S>::infinity() && !implied(q, kLower)) {
       const S t = (ch_.lb[q] - x_[q]) / p;
       if (t < alpha) alpha = t, kind = 1, which = q, side = kLower;
-    } else if (p > S(0) && ch_.ub[q] < std::numeric_limits<S>::infinity()) {
+    } else if (p > S(0) && ch_.ub[q] < std::numeric_limits<S>::infinity() && !implied(q, kUpper)) {
       const S t = (ch_.ub[q] - x_[q]) / p;
       if (t < alpha) alpha = t, kind = 1, which = q, side = kUpper;
     }
   }
   for (int q = 0; q + 1 < length(); ++q) {  // < L
     if (link_[q] != kInactive || ch_.link_row[q] < 0) continue;
-    if (free_[segment_[q]] < 0 && free_[segment_[q + 1]] < 0) continue;
+    if (position_free_[q + 2] < 0 && position_free_[q + 3] < 0) continue;
     const S dp = (xe_[q + 1] - xe_[q]) - (x_[q + 1] - x_[q]);
     const S d = x_[q + 1] - x_[q];
     if (dp < S(0) && ch_.link_lo[q] > -std::numeric_limits<S>::infinity()) {
@@ -328,27 +391,113 @@ bool ChainSolver<D, L>::final_check() const {
   return ok;
 }
 
-// The loop. At an equality optimum every constraint whose multiplier has the
-// wrong sign is dropped at once (the start's guess typically holds several
-// that are not active), until a step is blocked at zero length: from then on
-// one per visit, the textbook rule, so degenerate vertices cannot cycle
-// through many-at-once exchanges.
+// Primal-dual exchange rounds (the primal-dual active-set method of
+// Hintermueller, Ito and Kunisch, SIAM J. Optim. 13(3), 2002): solve for the
+// marks, then at once drop every marked constraint whose multiplier has the
+// wrong sign and mark every constraint the equality optimum violates. No
+// feasible iterate is needed, so many constraints change per solve (the
+// primal loop changes one per blocked step). `changes` counts one per round
+// that changes the marks, up to `limit`. Returns 1: the marks stood (xe
+// feasible, every sign right, x = xe optimal), 0: not settled within
+// `rounds` solves or the limit, -1: an equality solve failed.
 template <class D, int L>
-bool ChainSolver<D, L>::solve(int cap, int& iterations) {
+int ChainSolver<D, L>::exchange_rounds(int rounds, int limit, int& changes, S dual_tol, S g_scale) {
+  const S tol = s_.primal_tolerance;
+  for (int round = 0; round < rounds; ++round) {  // < rounds (a constant)
+    if (!equality_solve()) return -1;
+    for (int q = 0; q < length(); ++q) x_[q] = xe_[q];  // < L
+    S hx_scale = S(0);
+    const S residual = multipliers(hx_scale);
+    int changed = 0;
+    for (int q = 0; q < length(); ++q) {  // < L
+      const S v = xe_[q];
+      if (bound_[q] == kLower || bound_[q] == kUpper) {
+        const S yb = bound_[q] == kLower ? offset_[q] : -offset_[q];
+        if (yb > dual_tol) bound_[q] = kInactive, ++changed;
+      } else if (bound_[q] == kInactive) {
+        const S lb = ch_.lb[q], ub = ch_.ub[q];
+        std::int8_t side = kInactive;
+        if (v < lb - tol * (S(1) + std::fabs(lb)) && !implied(q, kLower)) side = kLower;
+        if (v > ub + tol * (S(1) + std::fabs(ub)) && !implied(q, kUpper)) side = kUpper;
+        if (side != kInactive) {
+          // The violated bound replaces the links at q: were q's segment held
+          // by another bound, independent_marks() would drop this one again.
+          bound_[q] = side;
+          if (q > 0 && link_[q - 1] != kInactive) link_[q - 1] = kInactive, ++changed;
+          if (link_[q] != kInactive) link_[q] = kInactive, ++changed;
+          ++changed;
+          continue;
+        }
+      }
+      if (q + 1 >= length() || ch_.link_row[q] < 0) continue;
+      if (link_[q] != kInactive) {
+        const S yl = link_[q] == kLower ? rhs_[q] : -rhs_[q];
+        if (yl > dual_tol) link_[q] = kInactive, ++changed;
+      } else {
+        const S d = xe_[q + 1] - v;
+        const S scale = S(1) + std::fabs(xe_[q + 1]) + std::fabs(v);
+        if (d < ch_.link_lo[q] - tol * scale) link_[q] = kLower, ++changed;
+        else if (d > ch_.link_hi[q] + tol * scale) link_[q] = kUpper, ++changed;
+      }
+    }
+    if (changed == 0) {
+      const bool stationary = residual <= s_.stationarity_tolerance * (g_scale + hx_scale);
+      return stationary && final_check() ? 1 : 0;
+    }
+    // One working-set change per round (iterations count equality solves'
+    // worth of work: a round costs one, however many marks it changes).
+    if (changes >= limit) return 0;
+    ++changes;
+    independent_marks();
+  }
+  return 0;
+}
+
+// The solve. A warm start first tries exchange rounds from its guess; a cold
+// one (or a warm one they leave) clamps the unconstrained optimum feasible,
+// tries exchange rounds from that start on a chain with link rows, and else
+// runs the primal loop from it: step to the equality optimum of the marks or
+// add the constraint that blocks the step; at an equality optimum drop the
+// constraints whose multipliers have the wrong sign (see spread_limit).
+template <class D, int L>
+bool ChainSolver<D, L>::solve(int cap, int& iterations, bool from_guess) {
   if (length() < 1) return false;
-  clear_marks();
-  if (!equality_solve()) return false;
-  const int moved = feasible_start();
-  if (moved < 0) return false;
   S g_scale = S(1);
   for (int q = 0; q < length(); ++q) {  // < L
     const S a = std::fabs(ch_.g[q]);
     if (a > g_scale) g_scale = a;
   }
   const S dual_tol = s_.dual_tolerance * g_scale;
+  const int start_changes = iterations;  // every phase counts against the one cap
+  bool linked = false;  // a chain with link rows (see exchange_rounds)
+  for (int q = 0; q + 1 < length(); ++q) linked = linked || ch_.link_row[q] >= 0;  // < L
+  if (from_guess) {
+    // A warm start: exchange rounds from the guess (no feasible point
+    // needed); what they leave is solved cold.
+    independent_marks();
+    const int rounds = linked ? kExchangeRounds : kGuessRoundsUnlinked;
+    const int settled = exchange_rounds(rounds, start_changes + cap, iterations, dual_tol, g_scale);
+    if (settled != 0) return settled > 0;
+    clear_marks();
+  }
+  if (!equality_solve()) return false;
+  int moved = feasible_start();
+  if (moved < 0) return false;
+  if (moved > 0 && linked) {
+    const int settled = exchange_rounds(kExchangeRounds, start_changes + cap, iterations, dual_tol, g_scale);
+    if (settled != 0) return settled > 0;
+    // Not settled: back to the clamped start (solved again: one equality
+    // solve, not a copy of the start on the stack).
+    clear_marks();
+    if (!equality_solve()) return false;
+    moved = feasible_start();
+    if (moved < 0) return false;
+  }
   bool current = moved == 0;  // xe_ is still the equality optimum of the marks
-  bool spread = true;         // drop every wrong sign at once
-  const int start_changes = iterations;
+  // Every wrong sign is dropped at once while their count falls from one
+  // such drop to the next (a block-pivoting safeguard): at most L block drops,
+  // then one per visit, the textbook rule.
+  int spread_limit = 4 * L;
   for (int pass = 0; pass <= cap; ++pass) {  // <= cap + 1 solves: every pass but the last changes W
     if (!current && !equality_solve()) return false;
     current = false;
@@ -365,7 +514,6 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations) {
       } else {
         link_[which] = side;
       }
-      spread = spread && alpha > S(0);
       ++iterations;
       continue;
     }
@@ -375,16 +523,13 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations) {
     S worst = dual_tol;  // the wrong sign by the most (one-per-visit rule)
     int drop = -1;
     bool drop_link = false;
-    int dropped = 0;
+    int wrong = 0;
     for (int q = 0; q < length(); ++q) {  // < L
       const S yb = bound_[q] == kLower ? offset_[q] : (bound_[q] == kUpper ? -offset_[q] : S(0));
       const S yl = link_[q] == kLower ? rhs_[q] : (link_[q] == kUpper ? -rhs_[q] : S(0));
       if (yb > worst) worst = yb, drop = q, drop_link = false;
       if (yl > worst) worst = yl, drop = q, drop_link = true;
-      const bool room = spread && iterations - start_changes + dropped < cap;
-      if (room && yb > dual_tol) bound_[q] = kInactive, ++dropped;
-      const bool room_link = spread && iterations - start_changes + dropped < cap;
-      if (room_link && yl > dual_tol) link_[q] = kInactive, ++dropped;
+      wrong += (yb > dual_tol ? 1 : 0) + (yl > dual_tol ? 1 : 0);
     }
     if (drop < 0) {
       // Free segments: their equality solve made sum_s r = 0; a residual
@@ -393,7 +538,21 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations) {
       return final_check();
     }
     if (iterations - start_changes >= cap) return false;
-    if (!spread) {
+    int dropped = 0;
+    if (wrong > 1 && wrong < spread_limit) {
+      spread_limit = wrong;
+      for (int q = 0; q < length(); ++q) {  // < L
+        const bool room = iterations - start_changes + dropped < cap;
+        if (room && (bound_[q] == kLower || bound_[q] == kUpper) &&
+            (bound_[q] == kLower ? offset_[q] : -offset_[q]) > dual_tol) {
+          bound_[q] = kInactive, ++dropped;
+        }
+        const bool room_link = iterations - start_changes + dropped < cap;
+        if (room_link && link_[q] != kInactive && (link_[q] == kLower ? rhs_[q] : -rhs_[q]) > dual_tol) {
+          link_[q] = kInactive, ++dropped;
+        }
+      }
+    } else {
       if (drop_link) {
         link_[drop] = kInactive;
       } else {

@@ -12,17 +12,31 @@
 namespace itp::qp::penta {
 
 // a[i] = {A(i,i), A(i,i-1), A(i,i-2)} (entries before row 0 ignored). Writes
-// f[i] = {1 / D(i), L(i,i-1), L(i,i-2)}. False if a pivot is not safely
-// positive (A not positive definite to working precision, or NaN).
+// f[i] = {1 / D(i), L(i,i-1), L(i,i-2)}; f may be a (row i of a is read
+// before row i of f is written). False if a pivot is not safely positive (A
+// not positive definite to working precision, or NaN).
 template <typename S, std::size_t W>
 bool factor(const S (*a)[W], S (*f)[W], int n) {
   static_assert(W == 3, "three diagonals");
   const S rel = S(10) * std::numeric_limits<S>::epsilon();
   S d1 = S(0), d2 = S(0);    // D(i-1), D(i-2)
   S l1_prev = S(0);          // L(i-1, i-2)
-  for (int i = 0; i < n; ++i) {  // < n rows
-    const S l2 = i >= 2 ? a[i][2] * f[i - 2][0] : S(0);
-    const S l1 = i >= 1 ? (a[i][1] - l2 * d2 * l1_prev) * f[i - 1][0] : S(0);
+  // Rows 0 and 1 have no L(i, i-2) (nor row 0 an L(i, i-1)): peeled, so the
+  // loop below needs no tests.
+  for (int i = 0; i < n && i < 2; ++i) {  // <= 2 rows
+    const S l1 = i == 1 ? a[1][1] * f[0][0] : S(0);
+    const S d = a[i][0] - l1 * l1 * d1;
+    if (!(d > rel * a[i][0])) return false;
+    f[i][0] = S(1) / d;
+    f[i][1] = l1;
+    f[i][2] = S(0);
+    d2 = d1;
+    d1 = d;
+    l1_prev = l1;
+  }
+  for (int i = 2; i < n; ++i) {  // < n rows
+    const S l2 = a[i][2] * f[i - 2][0];
+    const S l1 = (a[i][1] - l2 * d2 * l1_prev) * f[i - 1][0];
     const S d = a[i][0] - l2 * l2 * d2 - l1 * l1 * d1;
     if (!(d > rel * a[i][0])) return false;
     f[i][0] = S(1) / d;
@@ -40,17 +54,27 @@ template <typename S, std::size_t W>
 void solve(const S (*f)[W], int n, S* b) {
   static_assert(W == 3, "three diagonals");
   S z1 = S(0), z2 = S(0);
-  for (int i = 0; i < n; ++i) {  // < n: L z = b
+  for (int i = 0; i < n; ++i) {  // < n: L z = b (f[0][1..2], f[1][2] are 0)
     const S z = b[i] - f[i][1] * z1 - f[i][2] * z2;
     b[i] = z;
     z2 = z1;
     z1 = z;
   }
+  // D L' y = z from the last row up; the last two rows (no L(i+2, i), the
+  // last no L(i+1, i)) peeled, so the loop needs no tests.
   S y1 = S(0), y2 = S(0);  // y(i+1), y(i+2)
-  for (int i = n - 1; i >= 0; --i) {  // < n: D L' y = z
-    const S l1_next = i + 1 < n ? f[i + 1][1] : S(0);  // L(i+1, i)
-    const S l2_next = i + 2 < n ? f[i + 2][2] : S(0);  // L(i+2, i)
-    const S y = b[i] * f[i][0] - l1_next * y1 - l2_next * y2;
+  if (n >= 1) {
+    y1 = b[n - 1] * f[n - 1][0];
+    b[n - 1] = y1;
+  }
+  if (n >= 2) {
+    const S y = b[n - 2] * f[n - 2][0] - f[n - 1][1] * y1;
+    b[n - 2] = y;
+    y2 = y1;
+    y1 = y;
+  }
+  for (int i = n - 3; i >= 0; --i) {  // < n
+    const S y = b[i] * f[i][0] - f[i + 1][1] * y1 - f[i + 2][2] * y2;
     b[i] = y;
     y2 = y1;
     y1 = y;

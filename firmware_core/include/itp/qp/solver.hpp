@@ -45,6 +45,7 @@ struct SolveRun : ActiveSetSolver<D> {
   // may have changed (cold and warm starts).
   QpStatus factor() {
     ws.factored = false;
+    ws.chain_stride = 0;
     ws.even_band = false;
     S weight = S(0);
     const HessianKind kind = factor_hessian(p, ws, s.proximal_weight, weight);

@@ -57,16 +57,14 @@ class StageQp {
     if (restart && factor_held_) {
       st = solve_hot(qp.problem, qp.workspace, settings, result_);
     } else if (restart) {
+      // A chain-form QP (the coarse QP) goes to the chain solver first
+      // (chain_qp.hpp), from the last working set and, the key being the
+      // same, on the same H and A; it leaves no factor, so its restarts all
+      // come here.
       const WorkingSet<Dims> start = result_.working_set;  // the solve overwrites result_
-      st = solve_warm(qp.problem, qp.workspace, settings, start, result_);
+      st = solve_structured(qp.problem, qp.workspace, settings, &start, result_, true);
     }
     if (st == QpStatus::kNotFactored) {
-      // A cold start of a chain-form QP (the coarse QP) goes to the chain
-      // solver first (chain_qp.hpp), ~3x faster than a cold general solve.
-      // Restarts stay with the general solver: its hot start costs fewer
-      // Cortex-M7 instructions than a chain solve (docs/qp.md, "Chain
-      // solver"). A chain solve leaves no factor, so the next restart is
-      // warm and builds it.
       st = solve_cold_structured(qp.problem, qp.workspace, settings, result_);
     }
     have_start_ = is_usable(st) ||

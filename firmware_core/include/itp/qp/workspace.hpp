@@ -179,6 +179,10 @@ struct QpWorkspace {
   bool even_band = false;
   int factored_n = 0;                 // n the factors were built for
   int factored_m = 0;                 // m the factors were built for
+  // The chain solver settled the last problem, in chains of this stride K
+  // (chain_qp.hpp; 0: it did not): a restart on the same H and A may skip
+  // their checks. Cleared by every factorisation of the general solver.
+  int chain_stride = 0;
 };
 
 }  // namespace itp::qp
