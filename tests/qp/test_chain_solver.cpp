@@ -529,6 +529,13 @@ TEST_CASE("chain solver: hot starts (same H and A) agree with the general solver
   k->p.g[3] = std::numeric_limits<double>::quiet_NaN();
   CHECK(solve_chain(k->p, k->ws, k->settings, k->chain, &last, true) == ChainVerdict::kSettled);
   CHECK(k->chain.status == QpStatus::kInvalidInput);
+  // A hot call on other sizes than the settled solve's checks H again.
+  build_chain(k->p, 40, 2, rng, false);
+  REQUIRE(solve_chain(k->p, k->ws, k->settings, k->chain) == ChainVerdict::kSettled);
+  build_chain(k->p, 36, 2, rng, false);
+  k->p.h_band[7][0] = std::numeric_limits<double>::quiet_NaN();
+  CHECK(solve_chain(k->p, k->ws, k->settings, k->chain, &last, true) == ChainVerdict::kSettled);
+  CHECK(k->chain.status == QpStatus::kInvalidInput);
   // After a general solve in the workspace (no chain solve to rely on) a hot
   // call checks H again.
   build_chain(k->p, 40, 2, rng, false);

@@ -90,7 +90,7 @@ void write_working_set(const QpProblem<D>& p, const std::uint8_t* marks, QpResul
 // `same_matrices`: H and A are those of the last solve with `ws`, which the
 // chain solver settled (a hot start: their checks and the chain shape are
 // skipped, as the general solver's hotstart skips its factorisation; ignored
-// unless ws.chain_stride says so). When it settles, `ws` is marked
+// unless ws.chain_stride says so, for the same n and m). When it settles, `ws` is marked
 // unfactored (it then holds no factor of this problem's H).
 template <class D>
 ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSettings<typename D::Scalar>& settings,
@@ -103,7 +103,7 @@ ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSett
   res.certificate_residual = S(0);
   res.certificate_gap = S(0);
   const int held_stride = ws.chain_stride;
-  const bool hot = same_matrices && held_stride > 0;
+  const bool hot = same_matrices && held_stride > 0 && ws.factored_n == p.n && ws.factored_m == p.m;
   ws.chain_stride = 0;
   if (!(hot ? is_valid_vectors(p) : is_valid(p))) {
     res.working_set.clear();
@@ -133,6 +133,8 @@ ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSett
   res.status = QpStatus::kOptimal;
   ws.factored = false;
   ws.chain_stride = k;
+  ws.factored_n = p.n;
+  ws.factored_m = p.m;
   return ChainVerdict::kSettled;
 }
 

@@ -177,8 +177,8 @@ struct QpWorkspace {
   // H (hence L) has only zeros at odd band offsets: the triangular solves
   // of the iterations skip them (banded_cholesky.hpp, Stride = 2); set with chol.
   bool even_band = false;
-  int factored_n = 0;                 // n the factors were built for
-  int factored_m = 0;                 // m the factors were built for
+  int factored_n = 0;                 // n the factors were built for (or the chain solver settled)
+  int factored_m = 0;                 // m the factors were built for (or the chain solver settled)
   // The chain solver settled the last problem, in chains of this stride K
   // (chain_qp.hpp; 0: it did not): a restart on the same H and A may skip
   // their checks. Cleared by every factorisation of the general solver.
