@@ -241,26 +241,6 @@ TEST_CASE("chain solver: random chains, one and two interleaved, meet KKT and th
   CHECK(settled >= total * 3 / 4);
 }
 
-TEST_CASE("chain solver: small chains against a brute force over every face") {
-  auto k = std::make_unique<Case<One>>();
-  std::mt19937 rng(5);
-  int compared = 0;
-  for (int trial = 0; trial < 60; ++trial) {
-    build_chain(k->p, 3 + trial % 3, 1, rng, trial % 2 == 0);
-    const double best = brute_force_optimum(k->p);
-    const ChainVerdict v = solve_chain(k->p, k->ws, k->settings, k->chain);
-    if (!std::isfinite(best)) {  // infeasible: not for the chain solver to say
-      CHECK(v == ChainVerdict::kUseGeneralSolver);
-      continue;
-    }
-    REQUIRE(v == ChainVerdict::kSettled);
-    REQUIRE(k->chain.status == QpStatus::kOptimal);
-    CHECK(k->chain.objective == doctest::Approx(best).epsilon(1e-8));
-    ++compared;
-  }
-  CHECK(compared >= 30);
-}
-
 TEST_CASE("chain solver: the coarse QP of the planner (degenerate time chain) is solved as by the general solver") {
   auto k = std::make_unique<Case<Two>>();
   // t_i >= i dt and t_{i+1} - t_i >= dt: bound and link tight together at every sample.
@@ -478,22 +458,32 @@ TEST_CASE("chain solver: warm starts from the optimal, a random and another prob
   CHECK(direct >= 90);
 }
 
-TEST_CASE("chain solver: small chains warm from random working sets against a brute force over every face") {
+TEST_CASE("chain solver: small chains, cold and warm from random working sets, against a brute force over every face") {
   auto k = std::make_unique<Case<One>>();
   auto guess = std::make_unique<WorkingSet<One>>();
-  std::mt19937 rng(41);
-  int compared = 0;
+  std::mt19937 rng(5);         // the problems
+  std::mt19937 guess_rng(41);  // the warm starts' guesses
+  int compared = 0, warm_compared = 0;
   for (int trial = 0; trial < 60; ++trial) {
     build_chain(k->p, 3 + trial % 3, 1, rng, trial % 2 == 0);
     const double best = brute_force_optimum(k->p);
-    if (!std::isfinite(best)) continue;
-    random_working_set(k->p, rng, *guess);
-    if (solve_chain(k->p, k->ws, k->settings, k->chain, guess.get()) != ChainVerdict::kSettled) continue;
+    const ChainVerdict v = solve_chain(k->p, k->ws, k->settings, k->chain);
+    if (!std::isfinite(best)) {  // infeasible: not for the chain solver to say
+      CHECK(v == ChainVerdict::kUseGeneralSolver);
+      continue;
+    }
+    REQUIRE(v == ChainVerdict::kSettled);
     REQUIRE(k->chain.status == QpStatus::kOptimal);
     CHECK(k->chain.objective == doctest::Approx(best).epsilon(1e-8));
     ++compared;
+    random_working_set(k->p, guess_rng, *guess);
+    if (solve_chain(k->p, k->ws, k->settings, k->chain, guess.get()) != ChainVerdict::kSettled) continue;
+    REQUIRE(k->chain.status == QpStatus::kOptimal);
+    CHECK(k->chain.objective == doctest::Approx(best).epsilon(1e-8));
+    ++warm_compared;
   }
-  CHECK(compared >= 25);
+  CHECK(compared >= 30);
+  CHECK(warm_compared >= 25);
 }
 
 TEST_CASE("chain solver: hot starts (same H and A) agree with the general solver; the checks of H and A are skipped only after a settled chain solve") {

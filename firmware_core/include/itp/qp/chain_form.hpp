@@ -50,11 +50,10 @@ struct StridedVector {
   S operator[](int q) const { return v[first + q * step]; }
 };
 
-// One chain: positions q = 0..n-1 are the problem's variables first + q K,
-// H's diagonals copied out of the problem once per solve (each entry is read
-// several times per equality solve; contiguous copies cost less than strided
-// reads).
-// H's three diagonals are stored with kPad zeros either side, so that
+// One chain: positions q = 0..n-1 are the problem's variables first + q K.
+// H's three diagonals are copied once per solve (each entry is read several
+// times per equality solve; contiguous copies cost less than strided reads),
+// with kPad zeros either side, so that
 //   (Hx)_q = h2[q-2] x[q-2] + h1[q-1] x[q-1] + h0[q] x[q] + h1[q] x[q+1] + h2[q] x[q+2]
 // needs no test at the chain's ends (with x padded the same way).
 template <class D, int kMaxLength>

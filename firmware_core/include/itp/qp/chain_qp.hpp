@@ -3,7 +3,7 @@
 // dims declare a chain capacity (QpDims' Chain > 0): the coarse decision QP.
 // It settles what it can prove, kOptimal (KKT checked) or kInvalidInput, and
 // hands everything else to the general active-set solver
-// (solve_cold_structured below): a problem not in
+// (solve_structured below): a problem not in
 // chain form, an infeasible chain, a reduced H that is not positive definite,
 // the iteration cap. So kInfeasible, kNotConvex and kNumericalTrouble keep
 // the general solver's certificates (solver.hpp).
@@ -22,7 +22,7 @@ namespace itp::qp {
 
 enum class ChainVerdict : std::uint8_t {
   kSettled,           // result.status is final (kOptimal or kInvalidInput)
-  kUseGeneralSolver,  // result is scratch: the general solver must solve it (solve_cold_structured does)
+  kUseGeneralSolver,  // result is scratch: the general solver must solve it (solve_structured does)
 };
 
 namespace chain {
@@ -164,6 +164,7 @@ QpStatus solve_structured(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSet
   return res.status = st;
 }
 
+// The cold start of solve_structured.
 template <class D>
 QpStatus solve_cold_structured(const QpProblem<D>& p, QpWorkspace<D>& ws,
                                const QpSettings<typename D::Scalar>& settings, QpResult<D>& res) {

@@ -101,6 +101,12 @@ class ChainSolver {
   bool equality_solve();
   int feasible_start();
   S multipliers(S& hx_scale);
+  // After multipliers(): by how much the multiplier of position q's bound
+  // (of link q) has the wrong sign (> 0: wrong; 0 when inactive or fixed).
+  S bound_sign_error(int q) const {
+    return bound_[q] == kLower ? offset_[q] : (bound_[q] == kUpper ? -offset_[q] : S(0));
+  }
+  S link_sign_error(int q) const { return link_[q] == kLower ? rhs_[q] : (link_[q] == kUpper ? -rhs_[q] : S(0)); }
   int ratio_test(S& alpha, int& kind, std::int8_t& side) const;
   bool final_check() const;
   int exchange_rounds(int rounds, int limit, int& changes, S dual_tol, S g_scale);
@@ -412,8 +418,7 @@ int ChainSolver<D, L>::exchange_rounds(int rounds, int limit, int& changes, S du
     for (int q = 0; q < length(); ++q) {  // < L
       const S v = xe_[q];
       if (bound_[q] == kLower || bound_[q] == kUpper) {
-        const S yb = bound_[q] == kLower ? offset_[q] : -offset_[q];
-        if (yb > dual_tol) bound_[q] = kInactive, ++changed;
+        if (bound_sign_error(q) > dual_tol) bound_[q] = kInactive, ++changed;
       } else if (bound_[q] == kInactive) {
         const S lb = ch_.lb[q], ub = ch_.ub[q];
         std::int8_t side = kInactive;
@@ -431,8 +436,7 @@ int ChainSolver<D, L>::exchange_rounds(int rounds, int limit, int& changes, S du
       }
       if (q + 1 >= length() || ch_.link_row[q] < 0) continue;
       if (link_[q] != kInactive) {
-        const S yl = link_[q] == kLower ? rhs_[q] : -rhs_[q];
-        if (yl > dual_tol) link_[q] = kInactive, ++changed;
+        if (link_sign_error(q) > dual_tol) link_[q] = kInactive, ++changed;
       } else {
         const S d = xe_[q + 1] - v;
         const S scale = S(1) + std::fabs(xe_[q + 1]) + std::fabs(v);
@@ -525,8 +529,8 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations, bool from_guess) {
     bool drop_link = false;
     int wrong = 0;
     for (int q = 0; q < length(); ++q) {  // < L
-      const S yb = bound_[q] == kLower ? offset_[q] : (bound_[q] == kUpper ? -offset_[q] : S(0));
-      const S yl = link_[q] == kLower ? rhs_[q] : (link_[q] == kUpper ? -rhs_[q] : S(0));
+      const S yb = bound_sign_error(q);
+      const S yl = link_sign_error(q);
       if (yb > worst) worst = yb, drop = q, drop_link = false;
       if (yl > worst) worst = yl, drop = q, drop_link = true;
       wrong += (yb > dual_tol ? 1 : 0) + (yl > dual_tol ? 1 : 0);
@@ -543,14 +547,9 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations, bool from_guess) {
       spread_limit = wrong;
       for (int q = 0; q < length(); ++q) {  // < L
         const bool room = iterations - start_changes + dropped < cap;
-        if (room && (bound_[q] == kLower || bound_[q] == kUpper) &&
-            (bound_[q] == kLower ? offset_[q] : -offset_[q]) > dual_tol) {
-          bound_[q] = kInactive, ++dropped;
-        }
+        if (room && bound_sign_error(q) > dual_tol) bound_[q] = kInactive, ++dropped;
         const bool room_link = iterations - start_changes + dropped < cap;
-        if (room_link && link_[q] != kInactive && (link_[q] == kLower ? rhs_[q] : -rhs_[q]) > dual_tol) {
-          link_[q] = kInactive, ++dropped;
-        }
+        if (room_link && link_sign_error(q) > dual_tol) link_[q] = kInactive, ++dropped;
       }
     } else {
       if (drop_link) {
