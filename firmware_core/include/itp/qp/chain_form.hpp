@@ -18,22 +18,36 @@ namespace itp::qp::chain {
 
 inline constexpr int kMaxStride = 2;  // K: one chain, or two interleaved ones
 
+// Variable j's chain (j mod K) and position on it (j / K), for K <= 2
+// without a division (an integer division costs tens of cycles).
+inline int chain_of(int j, int k) { return k == 2 ? (j & 1) : 0; }
+inline int position_of(int j, int k) { return k == 2 ? (j >> 1) : j; }
+static_assert(kMaxStride == 2, "chain_of / position_of are written for K <= 2");
+
 // The stride K if `p` is in chain form with chains of at most `max_length`
 // positions, else 0. `seen` (N bytes) is scratch: the links that have a row.
+// In chain form A is valid too (finite, columns in range and increasing), and
+// H off the chains' pattern is 0 (finite): with gather()'s test of the
+// pattern, is_valid() holds without its own pass (solve_chain).
 template <class D>
 int find_stride(const QpProblem<D>& p, int max_length, std::uint8_t* seen) {
+  using S = typename D::Scalar;
+  static_assert(D::kMaxRowNonzeros >= 2, "a link row has two nonzeros");
+  const S inf = std::numeric_limits<S>::infinity();
   for (int k = 1; k <= kMaxStride; ++k) {  // <= 2 strides tried
     if ((p.n + k - 1) / k > max_length || 2 * k > D::kBandwidth) continue;
     bool fits = true;
     for (int off = 1; off <= D::kBandwidth; ++off) {  // <= Bw band columns
       if (off % k == 0 && off <= 2 * k) continue;     // a coupling the chains may have
-      for (int i = off; i < p.n; ++i) fits = fits & (p.h_band[i][off] == typename D::Scalar(0));  // < N
+      for (int i = off; i < p.n; ++i) fits = fits & (p.h_band[i][off] == S(0));  // < N
     }
+    if (!fits) continue;
     for (int i = 0; i < p.n; ++i) seen[i] = 0;  // < N
     for (int r = 0; r < p.m && fits; ++r) {  // < M rows
       const int j = p.a_nnz[r] == 2 ? p.a_col[r][0] : -1;
-      fits = j >= 0 && p.a_col[r][1] == j + k && p.a_val[r][1] > typename D::Scalar(0) &&
-             p.a_val[r][0] == -p.a_val[r][1] && seen[j] == 0;
+      const S v = p.a_val[r][1];
+      fits = j >= 0 && j + k < p.n && p.a_col[r][1] == j + k && v > S(0) && v < inf && p.a_val[r][0] == -v &&
+             seen[j] == 0;
       if (fits) seen[j] = 1;
     }
     if (fits) return k;
@@ -76,19 +90,15 @@ struct ChainData {
   const S* h1() const { return h1_ + kPad; }
   const S* h2() const { return h2_ + kPad; }
 
-  // y = H x along the chain (pentadiagonal).
+  // y = H x along the chain (pentadiagonal); x padded like the diagonals
+  // (x[-2], x[-1], x[n], x[n+1] are 0). One pass, each y[q] summed in a
+  // register.
   void multiply(const S* x, S* y) const {
     const S* d0 = h0();
     const S* d1 = h1();
     const S* d2 = h2();
-    for (int q = 0; q < n; ++q) y[q] = d0[q] * x[q];  // < kMaxLength
-    for (int q = 0; q + 1 < n; ++q) {                // < kMaxLength
-      y[q] += d1[q] * x[q + 1];
-      y[q + 1] += d1[q] * x[q];
-    }
-    for (int q = 0; q + 2 < n; ++q) {  // < kMaxLength
-      y[q] += d2[q] * x[q + 2];
-      y[q + 2] += d2[q] * x[q];
+    for (int q = 0; q < n; ++q) {  // < kMaxLength
+      y[q] = d2[q - 2] * x[q - 2] + d1[q - 1] * x[q - 1] + d0[q] * x[q] + d1[q] * x[q + 1] + d2[q] * x[q + 2];
     }
   }
 };
@@ -96,8 +106,9 @@ struct ChainData {
 // Chain `c` of a problem in chain form with stride `k` (find_stride: the band
 // holds offset 2k). The off-diagonals are read only where the chain has them
 // (h1 below n - 1, h2 below n - 2).
+// Returns whether the chain's entries of H are finite.
 template <class D, int kMaxLength>
-void gather(const QpProblem<D>& p, int k, int c, ChainData<D, kMaxLength>& ch) {
+bool gather(const QpProblem<D>& p, int k, int c, ChainData<D, kMaxLength>& ch) {
   using S = typename D::Scalar;
   const S inf = std::numeric_limits<S>::infinity();
   ch.first = c;
@@ -113,23 +124,26 @@ void gather(const QpProblem<D>& p, int k, int c, ChainData<D, kMaxLength>& ch) {
   S* h0 = ch.h0_ + ChainData<D, kMaxLength>::kPad;
   S* h1 = ch.h1_ + ChainData<D, kMaxLength>::kPad;
   S* h2 = ch.h2_ + ChainData<D, kMaxLength>::kPad;
+  S zero_sum = S(0);  // v * 0 is 0 for a finite v, NaN otherwise
   for (int q = 0; q < n; ++q) {  // < kMaxLength
     const int j = c + q * k;
     h0[q] = p.h_band[j][0];
     if (q + 1 < n) h1[q] = p.h_band[j + k][k];
     if (q + 2 < n) h2[q] = p.h_band[j + 2 * k][2 * k];
+    zero_sum += (h0[q] + h1[q] + h2[q]) * S(0);
     ch.link_row[q] = -1;
     ch.link_lo[q] = -inf;
     ch.link_hi[q] = inf;
   }
   for (int r = 0; r < p.m; ++r) {  // < M: each row links p.a_col[r][0] to the next on its chain
     const int j = p.a_col[r][0];
-    if (j % k != c) continue;
-    const int q = j / k;
+    if (chain_of(j, k) != c) continue;
+    const int q = position_of(j, k);
     ch.link_row[q] = static_cast<std::int16_t>(r);
     ch.link_lo[q] = p.lba[r] / p.a_val[r][1];
     ch.link_hi[q] = p.uba[r] / p.a_val[r][1];
   }
+  return zero_sum == S(0);
 }
 
 }  // namespace itp::qp::chain

@@ -41,12 +41,12 @@ void guess(const QpProblem<D>& p, const WorkingSet<D>& start, int k, int c, Chai
   for (int i = 0; i < start.size && i < D::kMaxActive; ++i) {  // < N + 1
     const ActiveConstraint& e = start.entries[i];
     const int j = e.is_bound != 0 ? e.index : (e.index >= 0 && e.index < p.m ? p.a_col[e.index][0] : -1);
-    if (j < 0 || j >= p.n || j % k != c) continue;
+    if (j < 0 || j >= p.n || chain_of(j, k) != c) continue;
     const std::int8_t side = e.side < 0 ? kLower : kUpper;
     if (e.is_bound != 0) {
-      solver.guess_bound(j / k, side);
+      solver.guess_bound(position_of(j, k), side);
     } else {
-      solver.guess_link(j / k, side);
+      solver.guess_link(position_of(j, k), side);
     }
   }
 }
@@ -105,11 +105,16 @@ ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSett
   const int held_stride = ws.chain_stride;
   const bool hot = same_matrices && held_stride > 0 && ws.factored_n == p.n && ws.factored_m == p.m;
   ws.chain_stride = 0;
-  if (!(hot ? is_valid_vectors(p) : is_valid(p))) {
+  // is_valid(p) in parts: the vectors here, A and H off the chains in
+  // find_stride (a problem not in chain form goes to the general solver,
+  // which checks it all), H on the chains in gather (a hot start skips
+  // find_stride, as H and A are those of a settled solve).
+  const auto invalid = [&res]() {
     res.working_set.clear();
     res.status = QpStatus::kInvalidInput;
     return ChainVerdict::kSettled;
-  }
+  };
+  if (!is_valid_vectors(p)) return invalid();
   std::uint8_t marks[static_cast<std::size_t>(D::kMaxVariables)];  // find_stride's scratch, then the marks
   const int k = hot ? held_stride : (D::kMaxChainLength > 0 ? chain::find_stride(p, L, marks) : 0);
   if (k == 0) return ChainVerdict::kUseGeneralSolver;
@@ -120,7 +125,7 @@ ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSett
                       : D::kMaxIterations;
   for (int c = 0; c < k; ++c) {  // <= 2 chains
     chain::ChainData<D, L> ch;
-    chain::gather(p, k, c, ch);
+    if (!chain::gather(p, k, c, ch)) return invalid();
     chain::ChainSolver<D, L> solver(ch, settings);
     if (start != nullptr) chain::guess(p, *start, k, c, solver);
     const bool solved = solver.solve(cap - res.iterations, res.iterations, start != nullptr);

@@ -40,17 +40,16 @@ class ChainSolver {
   using S = typename D::Scalar;
  public:
   static constexpr std::size_t kLz = static_cast<std::size_t>(L);
-  // Exchange rounds (exchange_rounds) tried before the primal loop: on a
-  // chain with link rows, from the clamped start or a warm start's guess; on
-  // one without, only a warm start's guess is tested (one round), as there
-  // the exchange often cycles (measured: docs/qp.md, "Chain solver").
+  // Exchange rounds (exchange_rounds) tried before the primal loop on a
+  // chain with link rows, from the clamped start or a warm start's guess. Not
+  // on a chain without (a box): there the exchange often cycles (measured:
+  // docs/qp.md, "Chain solver").
   static constexpr int kExchangeRounds = 4;
-  static constexpr int kGuessRoundsUnlinked = 1;
+  // A warm start's guess on a box chain with at most this many bounds only
+  // filters the cold start (solve()).
+  static constexpr int kFilterOnlyBounds = 3;
 
-  ChainSolver(const ChainData<D, L>& chain, const QpSettings<S>& settings) : ch_(chain), s_(settings) {
-    clear_marks();
-    find_implied();
-  }
+  ChainSolver(const ChainData<D, L>& chain, const QpSettings<S>& settings) : ch_(chain), s_(settings) { prepare(); }
 
   // A warm start's guess, before solve(): one constraint of the last working
   // set. Ignored where the chain has no such bound or link (an infinite
@@ -82,7 +81,7 @@ class ChainSolver {
   // r = Hx + g from the last multipliers() (H couples no two chains).
   S objective() const {
     S sum = S(0);
-    for (int q = 0; q < length(); ++q) sum += x_[q] * (r_[q] + ch_.g[q]);  // < L
+    for (int q = 0; q < length(); ++q) sum += x_[q] * (r_[q] + g_[q]);  // < L
     return S(0.5) * sum;
   }
 
@@ -90,11 +89,11 @@ class ChainSolver {
   // W = the fixed variables only (lb == ub).
   void clear_marks() {
     for (int q = 0; q < length(); ++q) {  // < L
-      bound_[q] = ch_.lb[q] == ch_.ub[q] ? kFixed : kInactive;
+      bound_[q] = lb_[q] == ub_[q] ? kFixed : kInactive;
       link_[q] = kInactive;
     }
   }
-  void find_implied();
+  void prepare();
   // Bound `side` of position q follows from the constraints left of it.
   bool implied(int q, std::int8_t side) const { return (implied_[q] & (side == kUpper ? 2 : 1)) != 0; }
   void independent_marks();
@@ -111,57 +110,76 @@ class ChainSolver {
   bool final_check() const;
   int exchange_rounds(int rounds, int limit, int& changes, S dual_tol, S g_scale);
   // The chain's length, visibly at most L (for the compiler's bounds checks
-  // as much as for the reader: gather() never makes it longer).
-  int length() const { return ch_.n < L ? ch_.n : L; }
-  S bound_value(int q, std::int8_t side) const { return side == kUpper ? ch_.ub[q] : ch_.lb[q]; }
+  // as much as for the reader: gather() never makes it longer). A copy: the
+  // stores to the marks (bytes) could alias ch_ as far as the compiler knows,
+  // so ch_.n would be read again after each.
+  int length() const { return n_ < L ? n_ : L; }
+  S bound_value(int q, std::int8_t side) const { return side == kUpper ? ub_[q] : lb_[q]; }
   S link_value(int q, std::int8_t side) const { return side == kUpper ? ch_.link_hi[q] : ch_.link_lo[q]; }
 
   const ChainData<D, L>& ch_;
   const QpSettings<S>& s_;
+  const int n_ = ch_.n < L ? ch_.n : L;
+  S g_scale_ = S(1);     // max(1, max |g_q|)
+  bool linked_ = false;  // the chain has link rows
+  const StridedVector<S> g_ = ch_.g, lb_ = ch_.lb, ub_ = ch_.ub;  // copies, as n_
   int factorisations_ = 0;
   std::int8_t bound_[kLz];       // per position
   std::int8_t link_[kLz];        // per link q -> q + 1
+  std::int8_t guessed_bound_[kLz];  // a warm start's guess of bound_
   std::uint8_t implied_[kLz];    // per position: bit 0 its lower bound implied, bit 1 its upper
   std::int16_t segment_[kLz];    // segment of position q
-  std::int16_t free_[kLz];       // free index of segment s, -1: fixed
+  std::int16_t free_[kLz];       // free index of segment s, -1: held by a bound
   std::int16_t position_free_[kLz + 2];  // [q + 2]: free index of position q's segment, -1: fixed
   S x0_[kLz + 4];                // [q + 2]: x with every free y = 0; 0 outside the chain
   // o_q during an equality solve; after it (multipliers()) the bound multipliers
   S offset_[kLz];
-  S x_[kLz];                     // feasible iterate
+  S x_padded_[kLz + 4] = {};     // [q + 2]: the feasible iterate, 0 outside the chain (ChainData::multiply)
+  S* const x_ = x_padded_ + 2;
   S xe_[kLz];                    // equality-constrained optimum for W
   S r_[kLz];                     // H x + g
   S band_[kLz][3];               // reduced Hessian, lower band (half-bandwidth 2), factored in place
-  // During an equality solve first the value of segment s at offset 0 (0
-  // while free), then Z'(-Hx0 - g), then y; after it the link multipliers
+  // During an equality solve first the value of segment s at offset 0 (held
+  // segments), then Z'(-Hx0 - g), then y; after it the link multipliers
   S rhs_[kLz];
 };
 
-// Bounds implied by the constraints left of them, to rounding: lb_q <= (the
-// least x_{q-1} can be) + link_lo + tol (1 + |lb_q|), and likewise above. The
-// coarse QP's time chain has runs of them (its lower bounds a staircase of
-// minimum steps, so a bound and the link beside it are tight together), and
-// exchanging such a bound for that link costs an equality solve each time
-// without moving x. An implied bound never enters the marks; final_check()
-// still checks it. The reach is carried without the implied bounds, so
-// x_q >= lb_q - tol (1 + |lb_q|) holds for each one, without accumulating.
+// One pass before any solve: the marks cleared (W = the fixed variables),
+// the scale of g, whether the chain has link rows, and the bounds implied by
+// the constraints left of them, to rounding: lb_q <= (the least x_{q-1} can
+// be) + link_lo + tol (1 + |lb_q|), and likewise above. The coarse QP's time
+// chain has runs of them (its lower bounds a staircase of minimum steps, so a
+// bound and the link beside it are tight together), and exchanging such a
+// bound for that link costs an equality solve each time without moving x. An
+// implied bound never enters the marks; final_check() still checks it. The
+// reach is carried without the implied bounds, so x_q >= lb_q - tol (1 +
+// |lb_q|) holds for each one, without accumulating.
 template <class D, int L>
-void ChainSolver<D, L>::find_implied() {
-  if (length() < 1) return;
+void ChainSolver<D, L>::prepare() {
   const S tol = s_.primal_tolerance;
-  S reach_lo = ch_.lb[0];
-  S reach_hi = ch_.ub[0];
-  implied_[0] = 0;
-  for (int q = 1; q < length(); ++q) {  // < L
-    const S from_lo = reach_lo + ch_.link_lo[q - 1];
-    const S from_hi = reach_hi + ch_.link_hi[q - 1];
-    const S lb = ch_.lb[q], ub = ch_.ub[q];
-    const bool lo_implied = bound_[q] != kFixed && lb <= from_lo + tol * (S(1) + std::fabs(lb));
-    const bool hi_implied = bound_[q] != kFixed && ub >= from_hi - tol * (S(1) + std::fabs(ub));
+  const S inf = std::numeric_limits<S>::infinity();
+  S reach_lo = -inf, reach_hi = inf;
+  S g_scale = S(1);
+  bool linked = false;
+  for (int q = 0; q < length(); ++q) {  // < L
+    const S lb = lb_[q], ub = ub_[q];
+    const bool fixed = lb == ub;
+    bound_[q] = fixed ? kFixed : kInactive;
+    link_[q] = kInactive;
+    const S a = std::fabs(g_[q]);
+    g_scale = a > g_scale ? a : g_scale;
+    linked = linked || (q + 1 < length() && ch_.link_row[q] >= 0);
+    const int k = q > 0 ? q - 1 : 0;  // link q-1 (none at q = 0)
+    const S from_lo = q > 0 ? reach_lo + ch_.link_lo[k] : -inf;
+    const S from_hi = q > 0 ? reach_hi + ch_.link_hi[k] : inf;
+    const bool lo_implied = q > 0 && !fixed && lb <= from_lo + tol * (S(1) + std::fabs(lb));
+    const bool hi_implied = q > 0 && !fixed && ub >= from_hi - tol * (S(1) + std::fabs(ub));
     implied_[q] = static_cast<std::uint8_t>((lo_implied ? 1 : 0) | (hi_implied ? 2 : 0));
     reach_lo = lo_implied ? from_lo : (lb > from_lo ? lb : from_lo);
     reach_hi = hi_implied ? from_hi : (ub < from_hi ? ub : from_hi);
   }
+  g_scale_ = g_scale;
+  linked_ = linked;
 }
 
 // Keeps the marks linearly independent: at most one bound per segment.
@@ -180,67 +198,80 @@ void ChainSolver<D, L>::independent_marks() {
 }
 
 // xe = argmin of the QP with every marked constraint as an equality.
+// Branch-free: the marks vary from solve to solve, so a branch on them would
+// be mispredicted about as often as it is taken.
 template <class D, int L>
 bool ChainSolver<D, L>::equality_solve() {
   ++factorisations_;
   const int n = length();
-  int segments = 0;
+  // Segments left to right: each position's segment and o_q (offset_); per
+  // segment whether a bound holds it (free_, 1 / 0 at first) and its value
+  // at offset 0 (base, in rhs_ until the assembly).
+  S* base = rhs_;
+  int segment = -1;
   S offset = S(0);
-  S* base = rhs_;  // per segment its value at offset 0 (0 while free); rhs_ is assembled after x0
-  for (int q = 0; q < n; ++q) {  // < L: segments, offsets, fixed values
-    if (q == 0 || link_[q - 1] == kInactive) {
-      offset = S(0);
-      free_[segments] = 0;
-      base[segments] = S(0);
-      ++segments;
-    } else {
-      offset += link_value(q - 1, link_[q - 1]);
-    }
+  bool held = false;
+  S held_base = S(0);
+  for (int q = 0; q < n; ++q) {  // < L
+    const int left = q > 0 ? q - 1 : 0;
+    const bool joined = q > 0 && link_[left] != kInactive;
+    segment += joined ? 0 : 1;
+    offset = joined ? offset + link_value(left, link_[left]) : S(0);
+    const bool bound = bound_[q] != kInactive;
+    held = bound || (joined && held);
+    held_base = bound ? bound_value(q, bound_[q]) - offset : (joined ? held_base : S(0));
     offset_[q] = offset;
-    segment_[q] = static_cast<std::int16_t>(segments - 1);
-    if (bound_[q] != kInactive) {
-      free_[segments - 1] = -1;
-      base[segments - 1] = bound_value(q, bound_[q]) - offset;
-    }
+    segment_[q] = static_cast<std::int16_t>(segment);
+    free_[segment] = held ? 1 : 0;
+    base[segment] = held_base;
   }
   int free_count = 0;
-  for (int k = 0; k < segments; ++k) {  // < L
-    if (free_[k] == 0) free_[k] = static_cast<std::int16_t>(free_count++);
+  for (int k = 0; k <= segment; ++k) {  // < L: free indices in order, -1: held
+    const bool is_held = free_[k] != 0;
+    free_[k] = static_cast<std::int16_t>(is_held ? -1 : free_count);
+    free_count += is_held ? 0 : 1;
   }
   position_free_[0] = position_free_[1] = -1;
-  x0_[0] = x0_[1] = S(0);
+  x0_[0] = x0_[1] = x0_[n + 2] = x0_[n + 3] = S(0);
   for (int q = 0; q < n; ++q) {  // < L: x0 (every free y = 0), each position's free index
     const int k = segment_[q];
     position_free_[q + 2] = free_[k];
-    x0_[q + 2] = offset_[q] + base[k];
+    x0_[q + 2] = offset_[q] + (free_[k] < 0 ? base[k] : S(0));
   }
-  x0_[n + 2] = x0_[n + 3] = S(0);
   // Row f of Z'HZ and of -Z'(H x0 + g), pulled position by position: each
-  // pair (q', q), q' < q, enters at the later position q, in row f(q). The
-  // padding (ChainData) makes every term off the chain 0 * 0.
+  // pair (q', q), q' < q, enters at the later position q, in row f(q). A
+  // row's positions are a run, so its sums are carried in registers from one
+  // position to the next and stored at each (the last store stays); held
+  // positions go to a spare row (free_count: there is one, as a held
+  // position leaves fewer than L free segments). The padding (ChainData)
+  // makes every term off the chain 0 * 0.
   const S* h0 = ch_.h0();
   const S* h1 = ch_.h1();
   const S* h2 = ch_.h2();
-  const auto& g = ch_.g;
-  const S* x0 = x0_ + 2;          // x0[-2], x0[-1], x0[n], x0[n+1] are 0
+  const auto& g = g_;
+  const S* x0 = x0_ + 2;                        // x0[-2], x0[-1], x0[n], x0[n+1] are 0
   const std::int16_t* pf = position_free_ + 2;  // pf[-2], pf[-1] are -1
+  S a0 = S(0), a1 = S(0), a2 = S(0), b0 = S(0);  // the current row: band entries, right-hand side
+  int last_row = -1;
   for (int q = 0; q < n; ++q) {  // < L
     const int f = pf[q];
-    if (f < 0) continue;
-    const S hx = h2[q - 2] * x0[q - 2] + h1[q - 1] * x0[q - 1] + h0[q] * x0[q] + h1[q] * x0[q + 1] + h2[q] * x0[q + 2];
     const int f1 = pf[q - 1];
     const int f2 = pf[q - 2];
-    if (f1 != f && f2 != f) {  // q starts its segment: a new row
-      band_[f][0] = band_[f][1] = band_[f][2] = S(0);
-      rhs_[f] = S(0);
-    }
-    rhs_[f] -= hx + g[q];
-    band_[f][0] += h0[q];
-    // Branch-free: a fixed neighbour (f' < 0) adds 0 to the diagonal.
-    const S w1 = f1 < 0 ? S(0) : (f1 == f ? S(2) : S(1));
-    const S w2 = f2 < 0 ? S(0) : (f2 == f ? S(2) : S(1));
-    band_[f][f1 < 0 ? 0 : f - f1] += w1 * h1[q - 1];
-    band_[f][f2 < 0 ? 0 : f - f2] += w2 * h2[q - 2];
+    const int row = f < 0 ? free_count : f;
+    const bool same = row == last_row;
+    last_row = row;
+    const S c1 = h1[q - 1], c2 = h2[q - 2];
+    // A neighbour in the same segment adds twice to the diagonal, one in the
+    // row f - d adds to column d, a held one (f' < 0) nothing.
+    a0 = (same ? a0 : S(0)) + (h0[q] + (f1 == f ? S(2) * c1 : S(0)) + (f2 == f ? S(2) * c2 : S(0)));
+    a1 = (same ? a1 : S(0)) + ((f1 >= 0 && f - f1 == 1 ? c1 : S(0)) + (f2 >= 0 && f - f2 == 1 ? c2 : S(0)));
+    a2 = (same ? a2 : S(0)) + ((f1 >= 0 && f - f1 == 2 ? c1 : S(0)) + (f2 >= 0 && f - f2 == 2 ? c2 : S(0)));
+    b0 = (same ? b0 : S(0)) -
+         (h2[q - 2] * x0[q - 2] + h1[q - 1] * x0[q - 1] + h0[q] * x0[q] + h1[q] * x0[q + 1] + h2[q] * x0[q + 2] + g[q]);
+    band_[row][0] = a0;
+    band_[row][1] = a1;
+    band_[row][2] = a2;
+    rhs_[row] = b0;
   }
   if (free_count > 0) {
     if (!penta::factor(band_, band_, free_count)) return false;
@@ -248,7 +279,7 @@ bool ChainSolver<D, L>::equality_solve() {
   }
   for (int q = 0; q < n; ++q) {  // < L
     const int f = pf[q];
-    xe_[q] = x0[q] + (f >= 0 ? rhs_[f] : S(0));
+    xe_[q] = x0[q] + (f >= 0 ? rhs_[f < 0 ? 0 : f] : S(0));
   }
   return true;
 }
@@ -263,41 +294,51 @@ template <class D, int L>
 int ChainSolver<D, L>::feasible_start() {
   S* reach_lo = r_;    // scratch: r_ and rhs_ are rewritten by the next solve
   S* reach_hi = rhs_;
-  reach_lo[length() - 1] = ch_.lb[length() - 1];
-  reach_hi[length() - 1] = ch_.ub[length() - 1];
+  reach_lo[length() - 1] = lb_[length() - 1];
+  reach_hi[length() - 1] = ub_[length() - 1];
   for (int q = length() - 2; q >= 0; --q) {  // < L
     const S lo = reach_lo[q + 1] - ch_.link_hi[q];
     const S hi = reach_hi[q + 1] - ch_.link_lo[q];
-    reach_lo[q] = lo > ch_.lb[q] ? lo : ch_.lb[q];
-    reach_hi[q] = hi < ch_.ub[q] ? hi : ch_.ub[q];
+    reach_lo[q] = lo > lb_[q] ? lo : lb_[q];
+    reach_hi[q] = hi < ub_[q] ? hi : ub_[q];
     if (!(reach_lo[q] <= reach_hi[q])) return -1;
   }
   if (!(reach_lo[length() - 1] <= reach_hi[length() - 1])) return -1;
+  // Branch-free (see equality_solve); x_{q-1} is carried in a register.
   int moved = 0;
+  S left = S(0);  // x_{q-1}
   for (int q = 0; q < length(); ++q) {  // < L
+    const int k = q > 0 ? q - 1 : 0;     // link q-1 (none at q = 0)
+    const bool lo_implied = implied(q, kLower), hi_implied = implied(q, kUpper);
+    const S lb = lb_[q], ub = ub_[q];
     S lo = reach_lo[q], hi = reach_hi[q];
     // By what x is clamped: 1 its bound, 2 the link, 0 a later constraint
     // (the reach); an implied bound is never the one, the link is.
-    std::int8_t lo_by = lo == ch_.lb[q] && !implied(q, kLower) ? std::int8_t(1) : std::int8_t(0);
-    std::int8_t hi_by = hi == ch_.ub[q] && !implied(q, kUpper) ? std::int8_t(1) : std::int8_t(0);
-    if (q > 0) {
-      const S a = x_[q - 1] + ch_.link_lo[q - 1];
-      const S b = x_[q - 1] + ch_.link_hi[q - 1];
-      if (a > lo || (implied(q, kLower) && lo == ch_.lb[q])) lo = a, lo_by = 2;
-      if (b < hi || (implied(q, kUpper) && hi == ch_.ub[q])) hi = b, hi_by = 2;
-    }
-    if (hi < lo) hi = lo;  // rounding of the reach: keep the lower end
+    std::int8_t lo_by = lo == lb && !lo_implied ? std::int8_t(1) : std::int8_t(0);
+    std::int8_t hi_by = hi == ub && !hi_implied ? std::int8_t(1) : std::int8_t(0);
+    const S a = left + ch_.link_lo[k];
+    const S b = left + ch_.link_hi[k];
+    const bool by_lo_link = q > 0 && (a > lo || (lo_implied && lo == lb));
+    const bool by_hi_link = q > 0 && (b < hi || (hi_implied && hi == ub));
+    lo = by_lo_link ? a : lo;
+    lo_by = by_lo_link ? std::int8_t(2) : lo_by;
+    hi = by_hi_link ? b : hi;
+    hi_by = by_hi_link ? std::int8_t(2) : hi_by;
+    hi = hi < lo ? lo : hi;  // rounding of the reach: keep the lower end
     const S target = xe_[q];
     // Within rounding of [lo, hi] the target is not clamped against anything.
     const S slack = s_.primal_tolerance * (S(1) + std::fabs(target));
     const bool keep = target >= lo - slack && target <= hi + slack;
-    x_[q] = target < lo ? lo : (target > hi ? hi : target);
-    const std::int8_t by = keep ? std::int8_t(0) : (target < lo ? lo_by : hi_by);
-    const std::int8_t side = target < lo ? kLower : kUpper;
-    if (q > 0) link_[q - 1] = by == 2 ? side : kInactive;
-    if (bound_[q] != kFixed) bound_[q] = by == 1 ? side : kInactive;
-    if (bound_[q] == kLower) x_[q] = ch_.lb[q];
-    if (bound_[q] == kUpper) x_[q] = ch_.ub[q];
+    const bool below = target < lo;
+    const std::int8_t by = keep ? std::int8_t(0) : (below ? lo_by : hi_by);
+    const std::int8_t side = below ? kLower : kUpper;
+    if (q > 0) link_[k] = by == 2 ? side : kInactive;
+    const std::int8_t bound = bound_[q] == kFixed ? kFixed : (by == 1 ? side : kInactive);
+    bound_[q] = bound;
+    const S clamped = below ? lo : (target > hi ? hi : target);
+    const S x = bound == kLower ? lb : (bound == kUpper ? ub : clamped);
+    x_[q] = x;
+    left = x;
     moved += keep ? 0 : 1;
   }
   independent_marks();
@@ -317,7 +358,7 @@ typename D::Scalar ChainSolver<D, L>::multipliers(S& hx_scale) {
   for (int q = 0; q < length(); ++q) {  // < L
     const S a = std::fabs(r_[q]);
     if (a > hx_scale) hx_scale = a;
-    r_[q] += ch_.g[q];
+    r_[q] += g_[q];
     y_bound[q] = S(0);
     y_link[q] = S(0);
   }
@@ -354,11 +395,11 @@ int ChainSolver<D, L>::ratio_test(S& alpha, int& kind, std::int8_t& side) const 
   for (int q = 0; q < length(); ++q) {  // < L
     if (bound_[q] != kInactive || position_free_[q + 2] < 0) continue;
     const S p = xe_[q] - x_[q];
-    if (p < S(0) && ch_.lb[q] > -std::numeric_limits<S>::infinity() && !implied(q, kLower)) {
-      const S t = (ch_.lb[q] - x_[q]) / p;
+    if (p < S(0) && lb_[q] > -std::numeric_limits<S>::infinity() && !implied(q, kLower)) {
+      const S t = (lb_[q] - x_[q]) / p;
       if (t < alpha) alpha = t, kind = 1, which = q, side = kLower;
-    } else if (p > S(0) && ch_.ub[q] < std::numeric_limits<S>::infinity() && !implied(q, kUpper)) {
-      const S t = (ch_.ub[q] - x_[q]) / p;
+    } else if (p > S(0) && ub_[q] < std::numeric_limits<S>::infinity() && !implied(q, kUpper)) {
+      const S t = (ub_[q] - x_[q]) / p;
       if (t < alpha) alpha = t, kind = 1, which = q, side = kUpper;
     }
   }
@@ -383,16 +424,16 @@ int ChainSolver<D, L>::ratio_test(S& alpha, int& kind, std::int8_t& side) const 
 template <class D, int L>
 bool ChainSolver<D, L>::final_check() const {
   const S tol = s_.primal_tolerance + s_.refactor_tolerance;
-  bool ok = true;
+  bool ok = true;  // & throughout: no branch per test (see equality_solve)
   for (int q = 0; q < length(); ++q) {  // < L
     const S v = x_[q];
-    ok = ok && std::isfinite(v) && v >= ch_.lb[q] - tol * (S(1) + std::fabs(ch_.lb[q])) &&
-         v <= ch_.ub[q] + tol * (S(1) + std::fabs(ch_.ub[q]));
-    if (q + 1 < length() && ch_.link_row[q] >= 0) {
-      const S d = x_[q + 1] - x_[q];
-      const S scale = S(1) + std::fabs(x_[q + 1]) + std::fabs(x_[q]);
-      ok = ok && d >= ch_.link_lo[q] - tol * scale && d <= ch_.link_hi[q] + tol * scale;
-    }
+    const S lb = lb_[q], ub = ub_[q];
+    ok = ok & (v * S(0) == S(0)) & (v >= lb - tol * (S(1) + std::fabs(lb))) & (v <= ub + tol * (S(1) + std::fabs(ub)));
+    const bool linked = q + 1 < length() && ch_.link_row[q] >= 0;
+    const S d = x_[q + 1] - v;  // x_ is padded: x_[n] = 0
+    const S scale = S(1) + std::fabs(x_[q + 1]) + std::fabs(v);
+    const bool link_ok = (d >= ch_.link_lo[q] - tol * scale) & (d <= ch_.link_hi[q] + tol * scale);
+    ok = ok & (link_ok || !linked);
   }
   return ok;
 }
@@ -420,7 +461,7 @@ int ChainSolver<D, L>::exchange_rounds(int rounds, int limit, int& changes, S du
       if (bound_[q] == kLower || bound_[q] == kUpper) {
         if (bound_sign_error(q) > dual_tol) bound_[q] = kInactive, ++changed;
       } else if (bound_[q] == kInactive) {
-        const S lb = ch_.lb[q], ub = ch_.ub[q];
+        const S lb = lb_[q], ub = ub_[q];
         std::int8_t side = kInactive;
         if (v < lb - tol * (S(1) + std::fabs(lb)) && !implied(q, kLower)) side = kLower;
         if (v > ub + tol * (S(1) + std::fabs(ub)) && !implied(q, kUpper)) side = kUpper;
@@ -466,20 +507,24 @@ int ChainSolver<D, L>::exchange_rounds(int rounds, int limit, int& changes, S du
 template <class D, int L>
 bool ChainSolver<D, L>::solve(int cap, int& iterations, bool from_guess) {
   if (length() < 1) return false;
-  S g_scale = S(1);
-  for (int q = 0; q < length(); ++q) {  // < L
-    const S a = std::fabs(ch_.g[q]);
-    if (a > g_scale) g_scale = a;
-  }
+  const S g_scale = g_scale_;
   const S dual_tol = s_.dual_tolerance * g_scale;
   const int start_changes = iterations;  // every phase counts against the one cap
-  bool linked = false;  // a chain with link rows (see exchange_rounds)
-  for (int q = 0; q + 1 < length(); ++q) linked = linked || ch_.link_row[q] >= 0;  // < L
+  const bool linked = linked_;  // a chain with link rows (see exchange_rounds)
   if (from_guess) {
     // A warm start: exchange rounds from the guess (no feasible point
-    // needed); what they leave is solved cold.
+    // needed); what they leave is solved cold. On a box chain one round (more
+    // would often cycle), and only for a guess of more than
+    // kFilterOnlyBounds bounds: a smaller one costs the filtered cold start
+    // below about as few equality solves when it is right, and nothing when
+    // it is wrong (measured: docs/qp.md, "Chain solver").
     independent_marks();
-    const int rounds = linked ? kExchangeRounds : kGuessRoundsUnlinked;
+    int guessed = 0;
+    for (int q = 0; q < length(); ++q) {  // < L
+      guessed_bound_[q] = bound_[q];
+      guessed += bound_[q] == kLower || bound_[q] == kUpper ? 1 : 0;
+    }
+    const int rounds = linked ? kExchangeRounds : (guessed > kFilterOnlyBounds ? 1 : 0);
     const int settled = exchange_rounds(rounds, start_changes + cap, iterations, dual_tol, g_scale);
     if (settled != 0) return settled > 0;
     clear_marks();
@@ -487,6 +532,16 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations, bool from_guess) {
   if (!equality_solve()) return false;
   int moved = feasible_start();
   if (moved < 0) return false;
+  if (from_guess && !linked) {
+    // A box chain whose guess did not stand: of the bounds the clamped start
+    // holds, only those the guess held too stay marked (x stays feasible, on
+    // them). The others were the guess's to drop: dropped one per equality
+    // solve by the primal loop, they cost most on a curve that touches its
+    // bounds along a run (measured: docs/qp.md, "Chain solver").
+    for (int q = 0; q < length(); ++q) {  // < L
+      if (bound_[q] != kFixed && bound_[q] != guessed_bound_[q]) bound_[q] = kInactive;
+    }
+  }
   if (moved > 0 && linked) {
     const int settled = exchange_rounds(kExchangeRounds, start_changes + cap, iterations, dual_tol, g_scale);
     if (settled != 0) return settled > 0;

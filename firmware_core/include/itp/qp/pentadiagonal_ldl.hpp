@@ -2,10 +2,14 @@
 // LDL' factor and solve of a symmetric pentadiagonal matrix (half-bandwidth
 // 2), the reduced Hessian of the chain solver (chain_solver.hpp). Written out
 // for this one bandwidth, without square roots, and with 1 / D stored, so a
-// row costs one division and ~15 flops:
-//   L(i,i-2) = A(i,i-2) / D(i-2)
-//   L(i,i-1) = (A(i,i-1) - L(i,i-2) D(i-2) L(i-1,i-2)) / D(i-1)
-//   D(i)     = A(i,i) - L(i,i-2)^2 D(i-2) - L(i,i-1)^2 D(i-1)
+// row costs one division and ~12 flops. With e(i) = L(i,i-1) D(i-1):
+//   L(i,i-2) = A(i,i-2) / D(i-2)            (so L(i,i-2) D(i-2) = A(i,i-2))
+//   e(i)     = A(i,i-1) - A(i,i-2) L(i-1,i-2)
+//   D(i)     = A(i,i) - L(i,i-2) A(i,i-2) - e(i)^2 / D(i-1),   L(i,i-1) = e(i) / D(i-1)
+// Rows are a chain of dependences through 1 / D(i-1); this form puts only
+// the division, one product and one difference on it (the rest waits off
+// the chain), and the sweeps of solve() likewise one product and one
+// difference per row.
 #include <cstddef>
 #include <limits>
 
@@ -19,31 +23,33 @@ template <typename S, std::size_t W>
 bool factor(const S (*a)[W], S (*f)[W], int n) {
   static_assert(W == 3, "three diagonals");
   const S rel = S(10) * std::numeric_limits<S>::epsilon();
-  S d1 = S(0), d2 = S(0);    // D(i-1), D(i-2)
-  S l1_prev = S(0);          // L(i-1, i-2)
+  S inv1 = S(0), inv2 = S(0);  // 1 / D(i-1), 1 / D(i-2), kept in registers
+  S l1_prev = S(0);            // L(i-1, i-2)
   // Rows 0 and 1 have no L(i, i-2) (nor row 0 an L(i, i-1)): peeled, so the
   // loop below needs no tests.
   for (int i = 0; i < n && i < 2; ++i) {  // <= 2 rows
-    const S l1 = i == 1 ? a[1][1] * f[0][0] : S(0);
-    const S d = a[i][0] - l1 * l1 * d1;
+    const S e = i == 1 ? a[1][1] : S(0);
+    const S d = a[i][0] - (e * e) * inv1;
     if (!(d > rel * a[i][0])) return false;
-    f[i][0] = S(1) / d;
+    const S l1 = e * inv1;
+    inv2 = inv1;
+    inv1 = S(1) / d;
+    f[i][0] = inv1;
     f[i][1] = l1;
     f[i][2] = S(0);
-    d2 = d1;
-    d1 = d;
     l1_prev = l1;
   }
   for (int i = 2; i < n; ++i) {  // < n rows
-    const S l2 = a[i][2] * f[i - 2][0];
-    const S l1 = (a[i][1] - l2 * d2 * l1_prev) * f[i - 1][0];
-    const S d = a[i][0] - l2 * l2 * d2 - l1 * l1 * d1;
+    const S l2 = a[i][2] * inv2;
+    const S e = a[i][1] - a[i][2] * l1_prev;
+    const S d = (a[i][0] - l2 * a[i][2]) - (e * e) * inv1;
     if (!(d > rel * a[i][0])) return false;
-    f[i][0] = S(1) / d;
+    const S l1 = e * inv1;
+    inv2 = inv1;
+    inv1 = S(1) / d;
+    f[i][0] = inv1;
     f[i][1] = l1;
     f[i][2] = l2;
-    d2 = d1;
-    d1 = d;
     l1_prev = l1;
   }
   return true;
@@ -55,7 +61,7 @@ void solve(const S (*f)[W], int n, S* b) {
   static_assert(W == 3, "three diagonals");
   S z1 = S(0), z2 = S(0);
   for (int i = 0; i < n; ++i) {  // < n: L z = b (f[0][1..2], f[1][2] are 0)
-    const S z = b[i] - f[i][1] * z1 - f[i][2] * z2;
+    const S z = (b[i] - f[i][2] * z2) - f[i][1] * z1;
     b[i] = z;
     z2 = z1;
     z1 = z;
@@ -74,7 +80,7 @@ void solve(const S (*f)[W], int n, S* b) {
     y1 = y;
   }
   for (int i = n - 3; i >= 0; --i) {  // < n
-    const S y = b[i] * f[i][0] - f[i + 1][1] * y1 - f[i + 2][2] * y2;
+    const S y = (b[i] * f[i][0] - f[i + 2][2] * y2) - f[i + 1][1] * y1;
     b[i] = y;
     y2 = y1;
     y1 = y;
