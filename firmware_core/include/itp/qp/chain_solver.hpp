@@ -139,8 +139,8 @@ class ChainSolver {
   S xe_[kLz];                    // equality-constrained optimum for W
   S r_[kLz];                     // H x + g
   S band_[kLz][3];               // reduced Hessian, lower band (half-bandwidth 2), factored in place
-  // During an equality solve first the value of segment s at offset 0 (held
-  // segments), then Z'(-Hx0 - g), then y; after it the link multipliers
+  // During an equality solve first the value of segment s at offset 0 (0
+  // while free), then Z'(-Hx0 - g), then y; after it the link multipliers
   S rhs_[kLz];
 };
 
@@ -198,80 +198,67 @@ void ChainSolver<D, L>::independent_marks() {
 }
 
 // xe = argmin of the QP with every marked constraint as an equality.
-// Branch-free: the marks vary from solve to solve, so a branch on them would
-// be mispredicted about as often as it is taken.
 template <class D, int L>
 bool ChainSolver<D, L>::equality_solve() {
   ++factorisations_;
   const int n = length();
-  // Segments left to right: each position's segment and o_q (offset_); per
-  // segment whether a bound holds it (free_, 1 / 0 at first) and its value
-  // at offset 0 (base, in rhs_ until the assembly).
-  S* base = rhs_;
-  int segment = -1;
+  int segments = 0;
   S offset = S(0);
-  bool held = false;
-  S held_base = S(0);
-  for (int q = 0; q < n; ++q) {  // < L
-    const int left = q > 0 ? q - 1 : 0;
-    const bool joined = q > 0 && link_[left] != kInactive;
-    segment += joined ? 0 : 1;
-    offset = joined ? offset + link_value(left, link_[left]) : S(0);
-    const bool bound = bound_[q] != kInactive;
-    held = bound || (joined && held);
-    held_base = bound ? bound_value(q, bound_[q]) - offset : (joined ? held_base : S(0));
+  S* base = rhs_;  // per segment its value at offset 0 (0 while free); rhs_ is assembled after x0
+  for (int q = 0; q < n; ++q) {  // < L: segments, offsets, fixed values
+    if (q == 0 || link_[q - 1] == kInactive) {
+      offset = S(0);
+      free_[segments] = 0;
+      base[segments] = S(0);
+      ++segments;
+    } else {
+      offset += link_value(q - 1, link_[q - 1]);
+    }
     offset_[q] = offset;
-    segment_[q] = static_cast<std::int16_t>(segment);
-    free_[segment] = held ? 1 : 0;
-    base[segment] = held_base;
+    segment_[q] = static_cast<std::int16_t>(segments - 1);
+    if (bound_[q] != kInactive) {
+      free_[segments - 1] = -1;
+      base[segments - 1] = bound_value(q, bound_[q]) - offset;
+    }
   }
   int free_count = 0;
-  for (int k = 0; k <= segment; ++k) {  // < L: free indices in order, -1: held
-    const bool is_held = free_[k] != 0;
-    free_[k] = static_cast<std::int16_t>(is_held ? -1 : free_count);
-    free_count += is_held ? 0 : 1;
+  for (int k = 0; k < segments; ++k) {  // < L
+    if (free_[k] == 0) free_[k] = static_cast<std::int16_t>(free_count++);
   }
   position_free_[0] = position_free_[1] = -1;
-  x0_[0] = x0_[1] = x0_[n + 2] = x0_[n + 3] = S(0);
+  x0_[0] = x0_[1] = S(0);
   for (int q = 0; q < n; ++q) {  // < L: x0 (every free y = 0), each position's free index
     const int k = segment_[q];
     position_free_[q + 2] = free_[k];
-    x0_[q + 2] = offset_[q] + (free_[k] < 0 ? base[k] : S(0));
+    x0_[q + 2] = offset_[q] + base[k];
   }
+  x0_[n + 2] = x0_[n + 3] = S(0);
   // Row f of Z'HZ and of -Z'(H x0 + g), pulled position by position: each
-  // pair (q', q), q' < q, enters at the later position q, in row f(q). A
-  // row's positions are a run, so its sums are carried in registers from one
-  // position to the next and stored at each (the last store stays); held
-  // positions go to a spare row (free_count: there is one, as a held
-  // position leaves fewer than L free segments). The padding (ChainData)
-  // makes every term off the chain 0 * 0.
+  // pair (q', q), q' < q, enters at the later position q, in row f(q). The
+  // padding (ChainData) makes every term off the chain 0 * 0.
   const S* h0 = ch_.h0();
   const S* h1 = ch_.h1();
   const S* h2 = ch_.h2();
   const auto& g = g_;
-  const S* x0 = x0_ + 2;                        // x0[-2], x0[-1], x0[n], x0[n+1] are 0
+  const S* x0 = x0_ + 2;          // x0[-2], x0[-1], x0[n], x0[n+1] are 0
   const std::int16_t* pf = position_free_ + 2;  // pf[-2], pf[-1] are -1
-  S a0 = S(0), a1 = S(0), a2 = S(0), b0 = S(0);  // the current row: band entries, right-hand side
-  int last_row = -1;
   for (int q = 0; q < n; ++q) {  // < L
     const int f = pf[q];
+    if (f < 0) continue;
+    const S hx = h2[q - 2] * x0[q - 2] + h1[q - 1] * x0[q - 1] + h0[q] * x0[q] + h1[q] * x0[q + 1] + h2[q] * x0[q + 2];
     const int f1 = pf[q - 1];
     const int f2 = pf[q - 2];
-    const int row = f < 0 ? free_count : f;
-    const bool same = row == last_row;
-    last_row = row;
-    const S c1 = h1[q - 1], c2 = h2[q - 2];
-    // A neighbour in the same segment adds twice to the diagonal, one in the
-    // row f - d adds to column d, a held one (f' < 0) nothing.
-    a0 = (same ? a0 : S(0)) + (h0[q] + (f1 == f ? S(2) * c1 : S(0)) + (f2 == f ? S(2) * c2 : S(0)));
-    a1 = (same ? a1 : S(0)) + ((f1 >= 0 && f - f1 == 1 ? c1 : S(0)) + (f2 >= 0 && f - f2 == 1 ? c2 : S(0)));
-    a2 = (same ? a2 : S(0)) + ((f1 >= 0 && f - f1 == 2 ? c1 : S(0)) + (f2 >= 0 && f - f2 == 2 ? c2 : S(0)));
-    b0 = (same ? b0 : S(0)) -
-         (h2[q - 2] * x0[q - 2] + h1[q - 1] * x0[q - 1] + h0[q] * x0[q] + h1[q] * x0[q + 1] + h2[q] * x0[q + 2] + g[q]);
-    band_[row][0] = a0;
-    band_[row][1] = a1;
-    band_[row][2] = a2;
-    rhs_[row] = b0;
+    if (f1 != f && f2 != f) {  // q starts its segment: a new row
+      band_[f][0] = band_[f][1] = band_[f][2] = S(0);
+      rhs_[f] = S(0);
+    }
+    rhs_[f] -= hx + g[q];
+    band_[f][0] += h0[q];
+    // Branch-free: a fixed neighbour (f' < 0) adds 0 to the diagonal.
+    const S w1 = f1 < 0 ? S(0) : (f1 == f ? S(2) : S(1));
+    const S w2 = f2 < 0 ? S(0) : (f2 == f ? S(2) : S(1));
+    band_[f][f1 < 0 ? 0 : f - f1] += w1 * h1[q - 1];
+    band_[f][f2 < 0 ? 0 : f - f2] += w2 * h2[q - 2];
   }
   if (free_count > 0) {
     if (!penta::factor(band_, band_, free_count)) return false;
@@ -279,7 +266,7 @@ bool ChainSolver<D, L>::equality_solve() {
   }
   for (int q = 0; q < n; ++q) {  // < L
     const int f = pf[q];
-    xe_[q] = x0[q] + (f >= 0 ? rhs_[f < 0 ? 0 : f] : S(0));
+    xe_[q] = x0[q] + (f >= 0 ? rhs_[f] : S(0));
   }
   return true;
 }
@@ -304,41 +291,31 @@ int ChainSolver<D, L>::feasible_start() {
     if (!(reach_lo[q] <= reach_hi[q])) return -1;
   }
   if (!(reach_lo[length() - 1] <= reach_hi[length() - 1])) return -1;
-  // Branch-free (see equality_solve); x_{q-1} is carried in a register.
   int moved = 0;
-  S left = S(0);  // x_{q-1}
   for (int q = 0; q < length(); ++q) {  // < L
-    const int k = q > 0 ? q - 1 : 0;     // link q-1 (none at q = 0)
-    const bool lo_implied = implied(q, kLower), hi_implied = implied(q, kUpper);
-    const S lb = lb_[q], ub = ub_[q];
     S lo = reach_lo[q], hi = reach_hi[q];
     // By what x is clamped: 1 its bound, 2 the link, 0 a later constraint
     // (the reach); an implied bound is never the one, the link is.
-    std::int8_t lo_by = lo == lb && !lo_implied ? std::int8_t(1) : std::int8_t(0);
-    std::int8_t hi_by = hi == ub && !hi_implied ? std::int8_t(1) : std::int8_t(0);
-    const S a = left + ch_.link_lo[k];
-    const S b = left + ch_.link_hi[k];
-    const bool by_lo_link = q > 0 && (a > lo || (lo_implied && lo == lb));
-    const bool by_hi_link = q > 0 && (b < hi || (hi_implied && hi == ub));
-    lo = by_lo_link ? a : lo;
-    lo_by = by_lo_link ? std::int8_t(2) : lo_by;
-    hi = by_hi_link ? b : hi;
-    hi_by = by_hi_link ? std::int8_t(2) : hi_by;
-    hi = hi < lo ? lo : hi;  // rounding of the reach: keep the lower end
+    std::int8_t lo_by = lo == lb_[q] && !implied(q, kLower) ? std::int8_t(1) : std::int8_t(0);
+    std::int8_t hi_by = hi == ub_[q] && !implied(q, kUpper) ? std::int8_t(1) : std::int8_t(0);
+    if (q > 0) {
+      const S a = x_[q - 1] + ch_.link_lo[q - 1];
+      const S b = x_[q - 1] + ch_.link_hi[q - 1];
+      if (a > lo || (implied(q, kLower) && lo == lb_[q])) lo = a, lo_by = 2;
+      if (b < hi || (implied(q, kUpper) && hi == ub_[q])) hi = b, hi_by = 2;
+    }
+    if (hi < lo) hi = lo;  // rounding of the reach: keep the lower end
     const S target = xe_[q];
     // Within rounding of [lo, hi] the target is not clamped against anything.
     const S slack = s_.primal_tolerance * (S(1) + std::fabs(target));
     const bool keep = target >= lo - slack && target <= hi + slack;
-    const bool below = target < lo;
-    const std::int8_t by = keep ? std::int8_t(0) : (below ? lo_by : hi_by);
-    const std::int8_t side = below ? kLower : kUpper;
-    if (q > 0) link_[k] = by == 2 ? side : kInactive;
-    const std::int8_t bound = bound_[q] == kFixed ? kFixed : (by == 1 ? side : kInactive);
-    bound_[q] = bound;
-    const S clamped = below ? lo : (target > hi ? hi : target);
-    const S x = bound == kLower ? lb : (bound == kUpper ? ub : clamped);
-    x_[q] = x;
-    left = x;
+    x_[q] = target < lo ? lo : (target > hi ? hi : target);
+    const std::int8_t by = keep ? std::int8_t(0) : (target < lo ? lo_by : hi_by);
+    const std::int8_t side = target < lo ? kLower : kUpper;
+    if (q > 0) link_[q - 1] = by == 2 ? side : kInactive;
+    if (bound_[q] != kFixed) bound_[q] = by == 1 ? side : kInactive;
+    if (bound_[q] == kLower) x_[q] = lb_[q];
+    if (bound_[q] == kUpper) x_[q] = ub_[q];
     moved += keep ? 0 : 1;
   }
   independent_marks();
@@ -424,16 +401,16 @@ int ChainSolver<D, L>::ratio_test(S& alpha, int& kind, std::int8_t& side) const 
 template <class D, int L>
 bool ChainSolver<D, L>::final_check() const {
   const S tol = s_.primal_tolerance + s_.refactor_tolerance;
-  bool ok = true;  // & throughout: no branch per test (see equality_solve)
+  bool ok = true;
   for (int q = 0; q < length(); ++q) {  // < L
     const S v = x_[q];
-    const S lb = lb_[q], ub = ub_[q];
-    ok = ok & (v * S(0) == S(0)) & (v >= lb - tol * (S(1) + std::fabs(lb))) & (v <= ub + tol * (S(1) + std::fabs(ub)));
-    const bool linked = q + 1 < length() && ch_.link_row[q] >= 0;
-    const S d = x_[q + 1] - v;  // x_ is padded: x_[n] = 0
-    const S scale = S(1) + std::fabs(x_[q + 1]) + std::fabs(v);
-    const bool link_ok = (d >= ch_.link_lo[q] - tol * scale) & (d <= ch_.link_hi[q] + tol * scale);
-    ok = ok & (link_ok || !linked);
+    ok = ok && std::isfinite(v) && v >= lb_[q] - tol * (S(1) + std::fabs(lb_[q])) &&
+         v <= ub_[q] + tol * (S(1) + std::fabs(ub_[q]));
+    if (q + 1 < length() && ch_.link_row[q] >= 0) {
+      const S d = x_[q + 1] - x_[q];
+      const S scale = S(1) + std::fabs(x_[q + 1]) + std::fabs(x_[q]);
+      ok = ok && d >= ch_.link_lo[q] - tol * scale && d <= ch_.link_hi[q] + tol * scale;
+    }
   }
   return ok;
 }
