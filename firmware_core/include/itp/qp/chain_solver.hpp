@@ -50,6 +50,9 @@ class ChainSolver {
   static constexpr int kFilterOnlyBounds = 3;
 
   ChainSolver(const ChainData<D, L>& chain, const QpSettings<S>& settings) : ch_(chain), s_(settings) { prepare(); }
+  // Not copied: x_ points into the object's own storage.
+  ChainSolver(const ChainSolver&) = delete;
+  ChainSolver& operator=(const ChainSolver&) = delete;
 
   // A warm start's guess, before solve(): one constraint of the last working
   // set. Ignored where the chain has no such bound or link (an infinite
