@@ -133,7 +133,7 @@ class ChainSolver {
   std::uint8_t implied_[kLz];    // per position: bit 0 its lower bound implied, bit 1 its upper
   std::int16_t segment_[kLz];    // segment of position q
   std::int16_t free_[kLz];       // free index of segment s, -1: held by a bound
-  std::int16_t position_free_[kLz + 2];  // [q + 2]: free index of position q's segment, -1: fixed
+  std::int16_t position_free_[kLz + 2];  // [q + 2]: free index of position q's segment, -1: held by a bound
   S x0_[kLz + 4];                // [q + 2]: x with every free y = 0; 0 outside the chain
   // o_q during an equality solve; after it (multipliers()) the bound multipliers
   S offset_[kLz];
@@ -499,8 +499,8 @@ bool ChainSolver<D, L>::solve(int cap, int& iterations, bool from_guess) {
     // below about as few equality solves when it is right, and nothing when
     // it is wrong (measured: docs/qp.md, "Chain solver").
     independent_marks();
-    int guessed = 0;
-    for (int q = 0; q < length(); ++q) {  // < L
+    int guessed = 0;  // a box chain's guess: kept for the filter below, its bounds counted
+    for (int q = 0; q < length() && !linked; ++q) {  // < L
       guessed_bound_[q] = bound_[q];
       guessed += bound_[q] == kLower || bound_[q] == kUpper ? 1 : 0;
     }
