@@ -256,3 +256,107 @@ TEST_CASE("the iteration limit is honoured and flags the iterate unusable") {
   CHECK(in->solve() == QpStatus::kOptimal);
   static_assert(D40::kMaxIterations == 3 * (40 + 80));
 }
+
+// The cold start puts the equalities that x_unc violates into W before the
+// first scan (solver.hpp, load_equalities). Fixed variables, equality rows, a
+// consistent duplicate of a row and a row that repeats a fixed variable (both
+// dependent: left to the loop) against a dense KKT solve of the independent
+// ones; with max_iterations below the count of violated equalities the
+// preload stops at the cap. The dependent rows come second and third, so
+// that one left in W would sit inside the factor, not last.
+TEST_CASE("equality preload: fixed variables, equality rows and dependent duplicates match a dense KKT solve") {
+  auto in = std::make_unique<qp_test::Instance<D40>>();
+  std::mt19937 rng(515);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (int rep = 0; rep < 20; ++rep) {
+    CAPTURE(rep);
+    const int n = 8 + rep;
+    const int fixed = 1 + rep % 3;  // x_0 .. x_{fixed-1}
+    const int rows = 2 + rep % 4;   // independent equality rows: 0 and 3 .. rows + 1
+    auto& p = in->problem;
+    REQUIRE(p.reset(n, rows + 2 + 3));
+    for (int i = 0; i < n; ++i) {
+      p.set_hessian(i, i, 4.0 + gauss(rng) * 0.1);
+      if (i > 0) p.set_hessian(i, i - 1, 1.0);
+      p.g[i] = 10.0 * gauss(rng);
+    }
+    Eigen::VectorXd fixed_value(fixed);
+    for (int i = 0; i < fixed; ++i) p.lb[i] = p.ub[i] = fixed_value(i) = gauss(rng);
+    std::vector<int> independent;
+    for (int q = 0; q < rows; ++q) {
+      const int r = q == 0 ? 0 : q + 2;
+      independent.push_back(r);
+      const int c0 = fixed + (q * (n - fixed - 3)) / std::max(1, rows - 1);
+      for (int j = c0; j < c0 + 3; ++j) p.push_row_entry(r, j, 1.0 + gauss(rng) * 0.3);
+      p.lba[r] = p.uba[r] = gauss(rng);
+    }
+    // Row 1: 2 x (row 0), consistent; row 2: 3 x_0 = 3 b_0.
+    for (int k = 0; k < p.a_nnz[0]; ++k) p.push_row_entry(1, p.a_col[0][k], 2.0 * p.a_val[0][k]);
+    p.lba[1] = p.uba[1] = 2.0 * p.lba[0];
+    p.push_row_entry(2, 0, 3.0);
+    p.lba[2] = p.uba[2] = 3.0 * fixed_value(0);
+    // Three inequality rows on the last variables, a bound too.
+    for (int q = 0; q < 3; ++q) {
+      p.push_row_entry(rows + 2 + q, n - 1 - q, 1.0);
+      p.uba[rows + 2 + q] = 0.5 + q;
+    }
+    p.ub[n - 4] = -0.25;
+    // Reference: the dense KKT solve of the independent equalities and of
+    // every other constraint the solver reports active (its final working
+    // set); a wrong active set fails the multiplier signs below, a wrong
+    // value the match.
+    REQUIRE(in->solve() == QpStatus::kOptimal);
+    const auto& ws = in->result.working_set;
+    std::vector<std::pair<std::vector<std::pair<int, double>>, double>> eq;  // rows of C x = d
+    const auto row_of = [&p](int r) {
+      std::vector<std::pair<int, double>> a;
+      for (int k = 0; k < p.a_nnz[r]; ++k) a.push_back({p.a_col[r][k], p.a_val[r][k]});
+      return a;
+    };
+    for (int i = 0; i < fixed; ++i) eq.push_back({{{i, 1.0}}, fixed_value(i)});
+    for (const int r : independent) eq.push_back({row_of(r), p.lba[r]});
+    for (int e = 0; e < ws.size; ++e) {
+      const auto& c = ws.entries[e];
+      if (c.is_bound && c.index < fixed) continue;
+      if (!c.is_bound && c.index < rows + 2) continue;
+      if (c.is_bound) {
+        eq.push_back({{{c.index, 1.0}}, c.side > 0 ? p.ub[c.index] : p.lb[c.index]});
+      } else {
+        eq.push_back({row_of(c.index), c.side > 0 ? p.uba[c.index] : p.lba[c.index]});
+      }
+    }
+    const int m = static_cast<int>(eq.size());
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + m, n + m);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + m);
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) K(i, j) = p.hessian(i, j);
+      rhs(i) = -p.g[i];
+    }
+    int e = 0;
+    for (const auto& [a, d] : eq) {
+      for (const auto& [j, v] : a) K(n + e, j) = K(j, n + e) = v;
+      rhs(n + e) = d;
+      ++e;
+    }
+    const Eigen::VectorXd ref = K.fullPivLu().solve(rhs);
+    REQUIRE((K * ref - rhs).norm() < 1e-9 * (1.0 + rhs.norm()));
+    for (int i = 0; i < n; ++i) CHECK(in->result.x[i] == doctest::Approx(ref(i)).epsilon(1e-8));
+    // The dependent duplicates hold at the optimum.
+    double a0x = 0.0;
+    for (int k = 0; k < p.a_nnz[0]; ++k) a0x += p.a_val[0][k] * in->result.x[p.a_col[0][k]];
+    CHECK(a0x == doctest::Approx(p.lba[0]).epsilon(1e-9));
+    CHECK(in->result.x[0] == doctest::Approx(fixed_value(0)).epsilon(1e-12));
+    // KKT signs of the inequalities (QpResult: y > 0 on an active upper side).
+    for (int q = 0; q < 3; ++q) CHECK(in->result.y_rows[rows + 2 + q] >= -1e-9);
+    CHECK(in->result.y_bounds[n - 4] >= -1e-9);
+    // The cap: fewer iterations than violated equalities stops in the preload.
+    const int needed = in->result.iterations;
+    REQUIRE(needed >= 2);
+    in->settings.max_iterations = 1;
+    CHECK(in->solve() == QpStatus::kIterationLimit);
+    CHECK(in->result.iterations == 1);
+    in->settings.max_iterations = needed;
+    CHECK(in->solve() == QpStatus::kOptimal);
+    in->settings.max_iterations = 0;
+  }
+}

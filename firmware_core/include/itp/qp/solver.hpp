@@ -110,6 +110,38 @@ struct SolveRun : ActiveSetSolver<D> {
     }
   }
 
+  // Equality constraints (lb == ub) that x_unc violates enter W before the
+  // first scan, as in DAQP: their multipliers are free, so the scan would
+  // add each of them anyway, one pass over all rows apiece (the speed QP's
+  // initial s, s', s'': three of a typical six iterations). Bounds first,
+  // then rows, each on the side x_unc violates; a dependent one is left to
+  // the loop. One that x_unc meets is left out: the scan adds it if a later
+  // step violates it (a satisfied equality added ahead of an ill-conditioned
+  // row can make that row look dependent, tests/qp/test_unscaled_feasibility).
+  // Each counts as an iteration (a working-set change, costing less than a
+  // scan and an add); none is added once `cap` is reached.
+  void load_equalities(int cap, QpResult<D>& res) {
+    for (int j = 0; j < p.n; ++j) {
+      if (p.lb[j] == p.ub[j]) load_equality(j, p.lb[j], cap, res);
+    }
+    for (int r = 0; r < p.m; ++r) {
+      if (p.lba[r] == p.uba[r]) load_equality(kN + r, p.lba[r], cap, res);
+    }
+  }
+
+  // Equality constraint c = b.
+  void load_equality(int c, S b, int cap, QpResult<D>& res) {
+    if (res.iterations >= cap || ws.w_size >= p.n || ws.active_side[c] != 0) return;
+    const S excess = this->dot_a(c, ws.x_unc) - b;
+    if (!(std::abs(excess) * ws.row_scale[c] > s.primal_tolerance) || !std::isfinite(b)) return;
+    this->add(c, excess > S(0) ? 1 : -1);
+    if (ws.last_singular) {
+      this->remove(ws.w_size - 1);
+      return;
+    }
+    ++res.iterations;
+  }
+
   // One inner solve from the current W with multipliers 0 and x = x_unc.
   QpStatus inner_solve(int cap, QpResult<D>& res) {
     this->clear_set_aside();
@@ -174,14 +206,15 @@ struct SolveRun : ActiveSetSolver<D> {
       }
     }
     unconstrained(res.x);
+    const int cap = (s.max_iterations > 0 && s.max_iterations < D::kMaxIterations)
+                        ? s.max_iterations
+                        : D::kMaxIterations;
     if (start == Start::kWarm && warm != nullptr) {
       load_warm(*warm);
     } else if (start == Start::kHot) {
       refresh_working_set();
     }
-    const int cap = (s.max_iterations > 0 && s.max_iterations < D::kMaxIterations)
-                        ? s.max_iterations
-                        : D::kMaxIterations;
+    if (start != Start::kHot) load_equalities(cap, res);
     QpStatus status = inner_solve(cap, res);
     if (proximal) status = proximal_loop(status, cap, res);
     this->write_result(status, res);
