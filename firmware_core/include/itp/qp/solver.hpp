@@ -228,7 +228,8 @@ struct SolveRun : ActiveSetSolver<D> {
 
 }  // namespace detail
 
-// Cold start: factorises H, starts from the unconstrained optimum, W = {}.
+// Cold start: factorises H, starts from the unconstrained optimum with W = the
+// equalities it violates (SolveRun::load_equalities).
 template <class D>
 QpStatus solve_cold(const QpProblem<D>& problem, QpWorkspace<D>& ws,
                     const QpSettings<typename D::Scalar>& settings, QpResult<D>& result) {
@@ -238,7 +239,8 @@ QpStatus solve_cold(const QpProblem<D>& problem, QpWorkspace<D>& ws,
 
 // Warm start: factorises H, then builds W from `working_set` (entries that are
 // out of range, duplicated, unbounded on their side or linearly dependent are
-// skipped). Multipliers start at zero, so any working set is a valid start.
+// skipped), then the equalities x_unc violates that it lacks. Multipliers
+// start at zero, so any working set is a valid start.
 template <class D>
 QpStatus solve_warm(const QpProblem<D>& problem, QpWorkspace<D>& ws,
                     const QpSettings<typename D::Scalar>& settings,

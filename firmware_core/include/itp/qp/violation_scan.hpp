@@ -105,7 +105,8 @@ int most_violated(const QpProblem<D>& p, QpWorkspace<D>& ws, typename D::Scalar 
     const S v = (up > lo ? up : lo) * scale;
     // Certificate: slack -v minus a bound of its rounding error,
     // 2 (nnz + 2) eps (sum_k |a_k x_k| + |b|) / |a|, where
-    // sum_k |a_k x_k| / |a| <= |a|_1 |x|_inf / |a|_2 <= sqrt(nnz) |x|_inf <= nnz |x|_inf.
+    // sum_k |a_k x_k| / |a| <= |a|_1 |x|_inf / |a|_2 <= sqrt(nnz) |x|_inf <= nnz |x|_inf
+    // (row_scale is 1/|a| to a few ulps, well inside the factor 2 of 2 (nnz + 2)).
     const S b_near = up > lo ? p.uba[r] : p.lba[r];
     const S guard = static_cast<S>(2 * (nnz + 2)) * eps * (static_cast<S>(nnz) * x_inf + std::abs(b_near) * scale);
     cert[r] = (-v - guard) + travelled;
