@@ -268,6 +268,7 @@ TEST_CASE("equality preload: fixed variables, equality rows and dependent duplic
   auto in = std::make_unique<qp_test::Instance<D40>>();
   std::mt19937 rng(515);
   std::normal_distribution<double> gauss(0.0, 1.0);
+  int with_inequalities = 0;  // members whose optimum holds an inequality too
   for (int rep = 0; rep < 20; ++rep) {
     CAPTURE(rep);
     const int n = 8 + rep;
@@ -326,6 +327,7 @@ TEST_CASE("equality preload: fixed variables, equality rows and dependent duplic
       }
     }
     const int m = static_cast<int>(eq.size());
+    with_inequalities += m > fixed + rows ? 1 : 0;
     Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + m, n + m);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + m);
     for (int i = 0; i < n; ++i) {
@@ -346,8 +348,13 @@ TEST_CASE("equality preload: fixed variables, equality rows and dependent duplic
     for (int k = 0; k < p.a_nnz[0]; ++k) a0x += p.a_val[0][k] * in->result.x[p.a_col[0][k]];
     CHECK(a0x == doctest::Approx(p.lba[0]).epsilon(1e-9));
     CHECK(in->result.x[0] == doctest::Approx(fixed_value(0)).epsilon(1e-12));
-    // KKT signs of the inequalities (QpResult: y > 0 on an active upper side).
-    for (int q = 0; q < 3; ++q) CHECK(in->result.y_rows[rows + 2 + q] >= -1e-9);
+    // The rest of KKT for the inequalities: feasible, and multipliers of the
+    // right sign (QpResult: y > 0 on an active upper side).
+    for (int q = 0; q < 3; ++q) {
+      CHECK(in->result.x[n - 1 - q] <= p.uba[rows + 2 + q] + 1e-9);
+      CHECK(in->result.y_rows[rows + 2 + q] >= -1e-9);
+    }
+    CHECK(in->result.x[n - 4] <= p.ub[n - 4] + 1e-9);
     CHECK(in->result.y_bounds[n - 4] >= -1e-9);
     // The cap: fewer iterations than violated equalities stops in the preload.
     const int needed = in->result.iterations;
@@ -359,4 +366,6 @@ TEST_CASE("equality preload: fixed variables, equality rows and dependent duplic
     CHECK(in->solve() == QpStatus::kOptimal);
     in->settings.max_iterations = 0;
   }
+  MESSAGE("equality preload: " << with_inequalities << " of 20 optima hold an inequality");
+  CHECK(with_inequalities >= 5);
 }
