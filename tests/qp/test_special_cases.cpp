@@ -22,6 +22,41 @@ void identity_hessian(QpProblem<D>& p) {
   for (int i = 0; i < p.n; ++i) p.set_hessian(i, i, 1.0);
 }
 
+// One row of C x = d: its nonzeros (column, value) and d.
+using EqualityRow = std::pair<std::vector<std::pair<int, double>>, double>;
+
+// Row r of p's A with the right-hand side d.
+template <class D>
+EqualityRow equality_row(const QpProblem<D>& p, int r, double d) {
+  std::vector<std::pair<int, double>> a;
+  for (int k = 0; k < p.a_nnz[r]; ++k) a.push_back({p.a_col[r][k], p.a_val[r][k]});
+  return {a, d};
+}
+
+// The independent reference: the dense KKT system [H C'; C 0] [x; y] = [-g; d]
+// of p's H and g with the rows `eq`, solved by full-pivoting LU (x, then one y
+// per row); the solve must hold to 1e-9.
+template <class D>
+Eigen::VectorXd dense_kkt_solve(const QpProblem<D>& p, const std::vector<EqualityRow>& eq) {
+  const int n = p.n;
+  const int m = static_cast<int>(eq.size());
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + m, n + m);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + m);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) K(i, j) = p.hessian(i, j);
+    rhs(i) = -p.g[i];
+  }
+  int e = 0;
+  for (const auto& [a, d] : eq) {
+    for (const auto& [j, v] : a) K(n + e, j) = K(j, n + e) = v;
+    rhs(n + e) = d;
+    ++e;
+  }
+  const Eigen::VectorXd ref = K.fullPivLu().solve(rhs);
+  REQUIRE((K * ref - rhs).norm() < 1e-9 * (1.0 + rhs.norm()));
+  return ref;
+}
+
 }  // namespace
 
 TEST_CASE("infeasible: contradictory rows and bounds are detected") {
@@ -108,21 +143,9 @@ TEST_CASE("equality-constrained QPs match a dense KKT solve") {
     }
     // Dense KKT: [H A'; A 0] [x; y] = [-g; b]
     const int nn = o.n;
-    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nn + m, nn + m);
-    Eigen::VectorXd rhs(nn + m);
-    for (int i = 0; i < nn; ++i) {
-      for (int j = 0; j < nn; ++j) K(i, j) = p.hessian(i, j);
-      rhs(i) = -p.g[i];
-    }
-    for (int r = 0; r < m; ++r) {
-      for (int q = 0; q < p.a_nnz[r]; ++q) {
-        K(nn + r, p.a_col[r][q]) = p.a_val[r][q];
-        K(p.a_col[r][q], nn + r) = p.a_val[r][q];
-      }
-      rhs(nn + r) = p.lba[r];
-    }
-    const Eigen::VectorXd ref = K.fullPivLu().solve(rhs);
-    REQUIRE((K * ref - rhs).norm() < 1e-9 * (1.0 + rhs.norm()));
+    std::vector<EqualityRow> eq;
+    for (int r = 0; r < m; ++r) eq.push_back(equality_row(p, r, p.lba[r]));
+    const Eigen::VectorXd ref = dense_kkt_solve(p, eq);
     CAPTURE(rep);
     REQUIRE(in->solve() == QpStatus::kOptimal);
     for (int i = 0; i < nn; ++i) CHECK(in->result.x[i] == doctest::Approx(ref(i)).epsilon(1e-8));
@@ -308,14 +331,9 @@ TEST_CASE("equality preload: fixed variables, equality rows and dependent duplic
     // value the match.
     REQUIRE(in->solve() == QpStatus::kOptimal);
     const auto& ws = in->result.working_set;
-    std::vector<std::pair<std::vector<std::pair<int, double>>, double>> eq;  // rows of C x = d
-    const auto row_of = [&p](int r) {
-      std::vector<std::pair<int, double>> a;
-      for (int k = 0; k < p.a_nnz[r]; ++k) a.push_back({p.a_col[r][k], p.a_val[r][k]});
-      return a;
-    };
+    std::vector<EqualityRow> eq;
     for (int i = 0; i < fixed; ++i) eq.push_back({{{i, 1.0}}, fixed_value(i)});
-    for (const int r : independent) eq.push_back({row_of(r), p.lba[r]});
+    for (const int r : independent) eq.push_back(equality_row(p, r, p.lba[r]));
     for (int e = 0; e < ws.size; ++e) {
       const auto& c = ws.entries[e];
       if (c.is_bound && c.index < fixed) continue;
@@ -323,25 +341,11 @@ TEST_CASE("equality preload: fixed variables, equality rows and dependent duplic
       if (c.is_bound) {
         eq.push_back({{{c.index, 1.0}}, c.side > 0 ? p.ub[c.index] : p.lb[c.index]});
       } else {
-        eq.push_back({row_of(c.index), c.side > 0 ? p.uba[c.index] : p.lba[c.index]});
+        eq.push_back(equality_row(p, c.index, c.side > 0 ? p.uba[c.index] : p.lba[c.index]));
       }
     }
-    const int m = static_cast<int>(eq.size());
-    with_inequalities += m > fixed + rows ? 1 : 0;
-    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + m, n + m);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + m);
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) K(i, j) = p.hessian(i, j);
-      rhs(i) = -p.g[i];
-    }
-    int e = 0;
-    for (const auto& [a, d] : eq) {
-      for (const auto& [j, v] : a) K(n + e, j) = K(j, n + e) = v;
-      rhs(n + e) = d;
-      ++e;
-    }
-    const Eigen::VectorXd ref = K.fullPivLu().solve(rhs);
-    REQUIRE((K * ref - rhs).norm() < 1e-9 * (1.0 + rhs.norm()));
+    with_inequalities += static_cast<int>(eq.size()) > fixed + rows ? 1 : 0;
+    const Eigen::VectorXd ref = dense_kkt_solve(p, eq);
     for (int i = 0; i < n; ++i) CHECK(in->result.x[i] == doctest::Approx(ref(i)).epsilon(1e-8));
     // The dependent duplicates hold at the optimum.
     double a0x = 0.0;

@@ -147,9 +147,9 @@ class ChainSolver {
   S rhs_[kLz];
 };
 
-// One pass before any solve: the marks cleared (W = the fixed variables),
-// the scale of g, whether the chain has link rows, and the bounds implied by
-// the constraints left of them, to rounding: lb_q <= (the least x_{q-1} can
+// Before any solve: the marks cleared (W = the fixed variables), then in one
+// pass the scale of g, whether the chain has link rows, and the bounds implied
+// by the constraints left of them, to rounding: lb_q <= (the least x_{q-1} can
 // be) + link_lo + tol (1 + |lb_q|), and likewise above. The coarse QP's time
 // chain has runs of them (its lower bounds a staircase of minimum steps, so a
 // bound and the link beside it are tight together), and exchanging such a
@@ -164,11 +164,10 @@ void ChainSolver<D, L>::prepare() {
   S reach_lo = -inf, reach_hi = inf;
   S g_scale = S(1);
   bool linked = false;
+  clear_marks();
   for (int q = 0; q < length(); ++q) {  // < L
     const S lb = lb_[q], ub = ub_[q];
-    const bool fixed = lb == ub;
-    bound_[q] = fixed ? kFixed : kInactive;
-    link_[q] = kInactive;
+    const bool fixed = bound_[q] == kFixed;
     const S a = std::fabs(g_[q]);
     g_scale = a > g_scale ? a : g_scale;
     linked = linked || (q + 1 < length() && ch_.link_row[q] >= 0);

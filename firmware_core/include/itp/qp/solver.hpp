@@ -129,11 +129,12 @@ struct SolveRun : ActiveSetSolver<D> {
     }
   }
 
-  // Equality constraint c = b.
+  // Equality constraint c = b (finite: validation rejects a lower bound of
+  // +inf and an upper bound of -inf).
   void load_equality(int c, S b, int cap, QpResult<D>& res) {
     if (res.iterations >= cap || ws.w_size >= p.n || ws.active_side[c] != 0) return;
     const S excess = this->dot_a(c, ws.x_unc) - b;
-    if (!(std::abs(excess) * ws.row_scale[c] > s.primal_tolerance) || !std::isfinite(b)) return;
+    if (!(std::abs(excess) * ws.row_scale[c] > s.primal_tolerance)) return;
     this->add(c, excess > S(0) ? 1 : -1);
     if (ws.last_singular) {
       this->remove(ws.w_size - 1);
