@@ -333,6 +333,32 @@ TEST_CASE("chain solver: verdicts. Invalid data settled as such; other shapes, i
   CHECK(capped > 0);
 }
 
+TEST_CASE("chain solver: it borrows the workspace's M_W rows, so a factor held before it is dropped, settled or handed on") {
+  auto k = std::make_unique<Case<Two>>();
+  auto fresh = std::make_unique<Case<Two>>();
+  std::mt19937 rng(33);
+  int handed_on = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    build_chain(k->p, 40, 2, rng, true);
+    REQUIRE(solve_cold(k->p, k->ws, k->settings, k->general) == QpStatus::kOptimal);
+    REQUIRE(k->ws.factored);
+    // A cap of one change hands most of these on after the chains' data
+    // went into M_W; a hot start must then refuse, not use the rows.
+    QpSettings<double> settings = k->settings;
+    settings.max_iterations = trial % 2 == 0 ? 1 : 0;
+    const ChainVerdict v = solve_chain(k->p, k->ws, settings, k->chain);
+    handed_on += v == ChainVerdict::kUseGeneralSolver ? 1 : 0;
+    CHECK_FALSE(k->ws.factored);
+    CHECK(solve_hot(k->p, k->ws, k->settings, k->general) == QpStatus::kNotFactored);
+    // The general solver after it: bit for bit as on a workspace never lent.
+    fresh->p = k->p;
+    REQUIRE(solve_cold(k->p, k->ws, k->settings, k->general) == QpStatus::kOptimal);
+    REQUIRE(solve_cold(fresh->p, fresh->ws, fresh->settings, fresh->general) == QpStatus::kOptimal);
+    for (int j = 0; j < 40; ++j) CHECK(k->general.x[j] == fresh->general.x[j]);
+  }
+  CHECK(handed_on > 0);
+}
+
 TEST_CASE("chain solver: a StageQp of chain shape hands what the chain solver leaves to the general solver") {
   using Arena = QpArena<largest_storage<Two>()>;
   struct Key {

@@ -55,21 +55,13 @@ int find_stride(const QpProblem<D>& p, int max_length, std::uint8_t* seen) {
   return 0;
 }
 
-// Every K-th entry of a problem vector from `first` on (a chain's g, lb, ub).
-template <class S>
-struct StridedVector {
-  const S* v = nullptr;
-  int first = 0;
-  int step = 1;
-  S operator[](int q) const { return v[first + q * step]; }
-};
-
 // One chain: positions q = 0..n-1 are the problem's variables first + q K.
-// H's three diagonals are copied once per solve (each entry is read several
-// times per equality solve; contiguous copies cost less than strided reads),
-// with kPad zeros either side, so that
-//   (Hx)_q = h2[q-2] x[q-2] + h1[q-1] x[q-1] + h0[q] x[q] + h1[q] x[q+1] + h2[q] x[q+2]
-// needs no test at the chain's ends (with x padded the same way).
+// Its data is copied once per solve (each entry is read many times: a
+// strided read costs an address computation each): g, lb and ub into
+// storage the caller lends (solve_chain: rows of the workspace, which hold
+// nothing during a chain solve), H's three diagonals here, with kPad zeros
+// either side, so that (Hx)_q (hx()) needs no test at the chain's ends
+// (with x padded the same way).
 template <class D, int kMaxLength>
 struct ChainData {
   using S = typename D::Scalar;
@@ -80,9 +72,12 @@ struct ChainData {
   int first = 0;
   int stride = 1;
   S h0_[kPadded], h1_[kPadded], h2_[kPadded];  // [q + kPad]: H(q, q), H(q + 1, q), H(q + 2, q); 0 off the chain
-  StridedVector<S> g, lb, ub;  // read in place (fewer reads than H; keeps the stack frame small)
+  const S* g = nullptr;   // [q]: g, lb, ub of position q, in the lent storage
+  const S* lb = nullptr;
+  const S* ub = nullptr;
   S link_lo[kLz], link_hi[kLz];  // x_{q+1} - x_q in [lo, hi]; -inf / +inf: no link row
   std::int16_t link_row[kLz];    // the row behind link q, or -1
+  bool linked = false;           // some link has a row
 
   int var(int q) const { return first + q * stride; }
   // Diagonals indexed by position, valid for q in [-kPad, n + kPad).
@@ -90,46 +85,48 @@ struct ChainData {
   const S* h1() const { return h1_ + kPad; }
   const S* h2() const { return h2_ + kPad; }
 
-  // y = H x along the chain (pentadiagonal); x padded like the diagonals
-  // (x[-2], x[-1], x[n], x[n+1] are 0). One pass, each y[q] summed in a
-  // register.
-  void multiply(const S* x, S* y) const {
+  // (H x)_q along the chain (pentadiagonal); x padded like the diagonals
+  // (x[-2], x[-1], x[n], x[n+1] are 0), so no test at the chain's ends.
+  S hx(const S* x, int q) const {
     const S* d0 = h0();
     const S* d1 = h1();
     const S* d2 = h2();
-    for (int q = 0; q < n; ++q) {  // < kMaxLength
-      y[q] = d2[q - 2] * x[q - 2] + d1[q - 1] * x[q - 1] + d0[q] * x[q] + d1[q] * x[q + 1] + d2[q] * x[q + 2];
-    }
+    return d2[q - 2] * x[q - 2] + d1[q - 1] * x[q - 1] + d0[q] * x[q] + d1[q] * x[q + 1] + d2[q] * x[q + 2];
   }
 };
 
 // Chain `c` of a problem in chain form with stride `k` (find_stride: the band
-// holds offset 2k). The off-diagonals are read only where the chain has them
-// (h1 below n - 1, h2 below n - 2).
+// holds offset 2k), its g, lb and ub copied into g_out, lb_out, ub_out (at
+// least kMaxLength each). The off-diagonals are read only where the chain
+// has them (h1 below n - 1, h2 below n - 2).
 // Returns whether the chain's entries of H are finite.
 template <class D, int kMaxLength>
-bool gather(const QpProblem<D>& p, int k, int c, ChainData<D, kMaxLength>& ch) {
+bool gather(const QpProblem<D>& p, int k, int c, ChainData<D, kMaxLength>& ch, typename D::Scalar* g_out,
+            typename D::Scalar* lb_out, typename D::Scalar* ub_out) {
   using S = typename D::Scalar;
   const S inf = std::numeric_limits<S>::infinity();
   ch.first = c;
   ch.stride = k;
   ch.n = (p.n - c + k - 1) / k;
-  ch.g = {p.g, c, k};
-  ch.lb = {p.lb, c, k};
-  ch.ub = {p.ub, c, k};
+  ch.linked = false;
+  ch.g = g_out;
+  ch.lb = lb_out;
+  ch.ub = ub_out;
   const int n = ch.n < kMaxLength ? ch.n : kMaxLength;
-  for (std::size_t i = 0; i < ChainData<D, kMaxLength>::kPadded; ++i) {  // < L + 4
-    ch.h0_[i] = ch.h1_[i] = ch.h2_[i] = S(0);
-  }
   S* h0 = ch.h0_ + ChainData<D, kMaxLength>::kPad;
   S* h1 = ch.h1_ + ChainData<D, kMaxLength>::kPad;
   S* h2 = ch.h2_ + ChainData<D, kMaxLength>::kPad;
+  // Read: h0 to h2 at -2, -1 (zeros) and below n; h1 at n - 1 and h2 at n - 2, n - 1 are zeros.
+  h0[-2] = h0[-1] = h1[-2] = h1[-1] = h2[-2] = h2[-1] = S(0);
   S zero_sum = S(0);  // v * 0 is 0 for a finite v, NaN otherwise
   for (int q = 0; q < n; ++q) {  // < kMaxLength
     const int j = c + q * k;
+    g_out[q] = p.g[j];
+    lb_out[q] = p.lb[j];
+    ub_out[q] = p.ub[j];
     h0[q] = p.h_band[j][0];
-    if (q + 1 < n) h1[q] = p.h_band[j + k][k];
-    if (q + 2 < n) h2[q] = p.h_band[j + 2 * k][2 * k];
+    h1[q] = q + 1 < n ? p.h_band[j + k][k] : S(0);
+    h2[q] = q + 2 < n ? p.h_band[j + 2 * k][2 * k] : S(0);
     zero_sum += (h0[q] + h1[q] + h2[q]) * S(0);
     ch.link_row[q] = -1;
     ch.link_lo[q] = -inf;
@@ -140,6 +137,7 @@ bool gather(const QpProblem<D>& p, int k, int c, ChainData<D, kMaxLength>& ch) {
     if (chain_of(j, k) != c) continue;
     const int q = position_of(j, k);
     ch.link_row[q] = static_cast<std::int16_t>(r);
+    ch.linked = true;
     ch.link_lo[q] = p.lba[r] / p.a_val[r][1];
     ch.link_hi[q] = p.uba[r] / p.a_val[r][1];
   }

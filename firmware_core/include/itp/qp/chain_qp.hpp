@@ -8,8 +8,9 @@
 // the iteration cap. So kInfeasible, kNotConvex and kNumericalTrouble keep
 // the general solver's certificates (solver.hpp).
 //
-// Memory: one chain's copy of the data (ChainData) and the solver state live
-// on the stack (~25 arrays of Chain scalars, docs/qp.md).
+// Memory: one chain's copy of H and the links (ChainData) and the solver
+// state live on the stack (~20 arrays of Chain scalars, docs/qp.md); its
+// g, lb and ub in three rows of the workspace's M_W, idle during a chain solve.
 #include <cstdint>
 
 #include "itp/qp/chain_form.hpp"
@@ -90,8 +91,9 @@ void write_working_set(const QpProblem<D>& p, const std::uint8_t* marks, QpResul
 // `same_matrices`: H and A are those of the last solve with `ws`, which the
 // chain solver settled (a hot start: their checks and the chain shape are
 // skipped, as the general solver's hotstart skips its factorisation; ignored
-// unless ws.chain_stride says so, for the same n and m). When it settles, `ws` is marked
-// unfactored (it then holds no factor of this problem's H).
+// unless ws.chain_stride says so, for the same n and m). Once the problem is
+// in chain form, `ws` holds no factor (its rows of M_W lend the chains their
+// storage).
 template <class D>
 ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSettings<typename D::Scalar>& settings,
                          QpResult<D>& res, const WorkingSet<D>* start = nullptr, bool same_matrices = false) {
@@ -123,9 +125,14 @@ ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSett
   const int cap = (settings.max_iterations > 0 && settings.max_iterations < D::kMaxIterations)
                       ? settings.max_iterations
                       : D::kMaxIterations;
+  // The chains' g, lb and ub are copied into rows of M_W: the workspace holds
+  // no factor from here on (kUseGeneralSolver: the general solver factors H
+  // again in any case).
+  static_assert(L <= D::kMaxVariables && D::kMaxActive >= 3, "three rows of M_W hold a chain's vectors");
+  ws.factored = false;
   for (int c = 0; c < k; ++c) {  // <= 2 chains
     chain::ChainData<D, L> ch;
-    if (!chain::gather(p, k, c, ch)) return invalid();
+    if (!chain::gather(p, k, c, ch, ws.m_rows[0], ws.m_rows[1], ws.m_rows[2])) return invalid();
     chain::ChainSolver<D, L> solver(ch, settings);
     if (start != nullptr) chain::guess(p, *start, k, c, solver);
     const bool solved = solver.solve(cap - res.iterations, res.iterations, start != nullptr);
@@ -136,7 +143,6 @@ ChainVerdict solve_chain(const QpProblem<D>& p, QpWorkspace<D>& ws, const QpSett
   }
   chain::write_working_set(p, marks, res);
   res.status = QpStatus::kOptimal;
-  ws.factored = false;
   ws.chain_stride = k;
   ws.factored_n = p.n;
   ws.factored_m = p.m;

@@ -101,6 +101,8 @@ class ChainSolver {
   bool implied(int q, std::int8_t side) const { return (implied_[q] & (side == kUpper ? 2 : 1)) != 0; }
   void independent_marks();
   bool equality_solve();
+  int assemble_segments();
+  int assemble_box();
   int feasible_start();
   S multipliers(S& hx_scale);
   // After multipliers(): by how much the multiplier of position q's bound
@@ -124,53 +126,57 @@ class ChainSolver {
   const QpSettings<S>& s_;
   const int n_ = ch_.n < L ? ch_.n : L;
   S g_scale_ = S(1);     // max(1, max |g_q|)
-  bool linked_ = false;  // the chain has link rows
-  const StridedVector<S> g_ = ch_.g, lb_ = ch_.lb, ub_ = ch_.ub;  // copies, as n_
+  const bool linked_ = ch_.linked;  // the chain has link rows
+  const S* const g_ = ch_.g;
+  const S* const lb_ = ch_.lb;
+  const S* const ub_ = ch_.ub;
   int factorisations_ = 0;
   std::int8_t bound_[kLz];       // per position
   std::int8_t link_[kLz];        // per link q -> q + 1
   std::int8_t guessed_bound_[kLz];  // a warm start's guess of bound_
   std::uint8_t implied_[kLz];    // per position: bit 0 its lower bound implied, bit 1 its upper
-  std::int16_t segment_[kLz];    // segment of position q
-  std::int16_t free_[kLz];       // free index of segment s, -1: held by a bound
+  std::int16_t free_first_[kLz];  // free segment f: its first position
+  std::int16_t free_last_[kLz];   // and its last
   std::int16_t position_free_[kLz + 2];  // [q + 2]: free index of position q's segment, -1: held by a bound
   S x0_[kLz + 4];                // [q + 2]: x with every free y = 0; 0 outside the chain
-  // o_q during an equality solve; after it (multipliers()) the bound multipliers
+  // o_q during a linked chain's equality solve; after it (multipliers()) the
+  // bound multipliers
   S offset_[kLz];
   S x_padded_[kLz + 4] = {};     // [q + 2]: the feasible iterate, 0 outside the chain (ChainData::multiply)
   S* const x_ = x_padded_ + 2;
   S xe_[kLz];                    // equality-constrained optimum for W
   S r_[kLz];                     // H x + g
   S band_[kLz][3];               // reduced Hessian, lower band (half-bandwidth 2), factored in place
-  // During an equality solve first the value of segment s at offset 0 (0
-  // while free), then Z'(-Hx0 - g), then y; after it the link multipliers
+  // During an equality solve Z'(-Hx0 - g), then y; after it the link
+  // multipliers
   S rhs_[kLz];
 };
 
 // Before any solve: the marks cleared (W = the fixed variables), then in one
-// pass the scale of g, whether the chain has link rows, and the bounds implied
-// by the constraints left of them, to rounding: lb_q <= (the least x_{q-1} can
-// be) + link_lo + tol (1 + |lb_q|), and likewise above. The coarse QP's time
-// chain has runs of them (its lower bounds a staircase of minimum steps, so a
-// bound and the link beside it are tight together), and exchanging such a
-// bound for that link costs an equality solve each time without moving x. An
-// implied bound never enters the marks; final_check() still checks it. The
-// reach is carried without the implied bounds, so x_q >= lb_q - tol (1 +
-// |lb_q|) holds for each one, without accumulating.
+// pass the scale of g and the bounds implied by the constraints left of them,
+// to rounding: lb_q <= (the least x_{q-1} can be) + link_lo + tol (1 +
+// |lb_q|), and likewise above. The coarse QP's time chain has runs of them
+// (its lower bounds a staircase of minimum steps, so a bound and the link
+// beside it are tight together), and exchanging such a bound for that link
+// costs an equality solve each time without moving x. An implied bound never
+// enters the marks; final_check() still checks it. The reach is carried
+// without the implied bounds, so x_q >= lb_q - tol (1 + |lb_q|) holds for
+// each one, without accumulating. A chain without link rows implies none.
 template <class D, int L>
 void ChainSolver<D, L>::prepare() {
   const S tol = s_.primal_tolerance;
   const S inf = std::numeric_limits<S>::infinity();
   S reach_lo = -inf, reach_hi = inf;
   S g_scale = S(1);
-  bool linked = false;
+  const bool linked = linked_;
   clear_marks();
   for (int q = 0; q < length(); ++q) {  // < L
-    const S lb = lb_[q], ub = ub_[q];
-    const bool fixed = bound_[q] == kFixed;
     const S a = std::fabs(g_[q]);
     g_scale = a > g_scale ? a : g_scale;
-    linked = linked || (q + 1 < length() && ch_.link_row[q] >= 0);
+    implied_[q] = 0;
+    if (!linked) continue;
+    const S lb = lb_[q], ub = ub_[q];
+    const bool fixed = bound_[q] == kFixed;
     const int k = q > 0 ? q - 1 : 0;  // link q-1 (none at q = 0)
     const S from_lo = q > 0 ? reach_lo + ch_.link_lo[k] : -inf;
     const S from_hi = q > 0 ? reach_hi + ch_.link_hi[k] : inf;
@@ -181,7 +187,6 @@ void ChainSolver<D, L>::prepare() {
     reach_hi = hi_implied ? from_hi : (ub < from_hi ? ub : from_hi);
   }
   g_scale_ = g_scale;
-  linked_ = linked;
 }
 
 // Keeps the marks linearly independent: at most one bound per segment.
@@ -199,78 +204,141 @@ void ChainSolver<D, L>::independent_marks() {
   }
 }
 
-// xe = argmin of the QP with every marked constraint as an equality.
+// xe = argmin of the QP with every marked constraint as an equality: the
+// reduced system Z'HZ y = -Z'(H x0 + g) assembled (x0: x with every free
+// y = 0), factored and solved, then xe = x0 + Z y.
 template <class D, int L>
 bool ChainSolver<D, L>::equality_solve() {
   ++factorisations_;
-  const int n = length();
-  int segments = 0;
-  S offset = S(0);
-  S* base = rhs_;  // per segment its value at offset 0 (0 while free); rhs_ is assembled after x0
-  for (int q = 0; q < n; ++q) {  // < L: segments, offsets, fixed values
-    if (q == 0 || link_[q - 1] == kInactive) {
-      offset = S(0);
-      free_[segments] = 0;
-      base[segments] = S(0);
-      ++segments;
-    } else {
-      offset += link_value(q - 1, link_[q - 1]);
-    }
-    offset_[q] = offset;
-    segment_[q] = static_cast<std::int16_t>(segments - 1);
-    if (bound_[q] != kInactive) {
-      free_[segments - 1] = -1;
-      base[segments - 1] = bound_value(q, bound_[q]) - offset;
-    }
-  }
-  int free_count = 0;
-  for (int k = 0; k < segments; ++k) {  // < L
-    if (free_[k] == 0) free_[k] = static_cast<std::int16_t>(free_count++);
-  }
+  // The padding: x0 is 0 and no position free off the chain's ends.
   position_free_[0] = position_free_[1] = -1;
-  x0_[0] = x0_[1] = S(0);
-  for (int q = 0; q < n; ++q) {  // < L: x0 (every free y = 0), each position's free index
-    const int k = segment_[q];
-    position_free_[q + 2] = free_[k];
-    x0_[q + 2] = offset_[q] + base[k];
-  }
-  x0_[n + 2] = x0_[n + 3] = S(0);
-  // Row f of Z'HZ and of -Z'(H x0 + g), pulled position by position: each
-  // pair (q', q), q' < q, enters at the later position q, in row f(q). The
-  // padding (ChainData) makes every term off the chain 0 * 0.
-  const S* h0 = ch_.h0();
-  const S* h1 = ch_.h1();
-  const S* h2 = ch_.h2();
-  const auto& g = g_;
-  const S* x0 = x0_ + 2;          // x0[-2], x0[-1], x0[n], x0[n+1] are 0
-  const std::int16_t* pf = position_free_ + 2;  // pf[-2], pf[-1] are -1
-  for (int q = 0; q < n; ++q) {  // < L
-    const int f = pf[q];
-    if (f < 0) continue;
-    const S hx = h2[q - 2] * x0[q - 2] + h1[q - 1] * x0[q - 1] + h0[q] * x0[q] + h1[q] * x0[q + 1] + h2[q] * x0[q + 2];
-    const int f1 = pf[q - 1];
-    const int f2 = pf[q - 2];
-    if (f1 != f && f2 != f) {  // q starts its segment: a new row
-      band_[f][0] = band_[f][1] = band_[f][2] = S(0);
-      rhs_[f] = S(0);
-    }
-    rhs_[f] -= hx + g[q];
-    band_[f][0] += h0[q];
-    // Branch-free: a fixed neighbour (f' < 0) adds 0 to the diagonal.
-    const S w1 = f1 < 0 ? S(0) : (f1 == f ? S(2) : S(1));
-    const S w2 = f2 < 0 ? S(0) : (f2 == f ? S(2) : S(1));
-    band_[f][f1 < 0 ? 0 : f - f1] += w1 * h1[q - 1];
-    band_[f][f2 < 0 ? 0 : f - f2] += w2 * h2[q - 2];
-  }
+  x0_[0] = x0_[1] = x0_[length() + 2] = x0_[length() + 3] = S(0);
+  const int free_count = linked_ ? assemble_segments() : assemble_box();
   if (free_count > 0) {
     if (!penta::factor(band_, band_, free_count)) return false;
     penta::solve(band_, free_count, rhs_);
   }
-  for (int q = 0; q < n; ++q) {  // < L
+  const S* x0 = x0_ + 2;
+  const std::int16_t* pf = position_free_ + 2;
+  for (int q = 0; q < length(); ++q) {  // < L
     const int f = pf[q];
     xe_[q] = x0[q] + (f >= 0 ? rhs_[f] : S(0));
   }
   return true;
+}
+
+// The reduced system of a chain with link rows, in two passes: the segments
+// (offsets, x0, free indices), then row f for one free segment a..b at a
+// time. The row holds the couplings with earlier segments (the lower band);
+// H being pentadiagonal, only a and a + 1 reach back out of the segment, to
+// a - 1 and a - 2, and every later position adds its h0, 2 h1, 2 h2 to the
+// diagonal. Each sum takes its terms in position order, as a
+// position-by-position assembly would (the terms left out are exact zeros).
+// Returns the number of free segments.
+template <class D, int L>
+int ChainSolver<D, L>::assemble_segments() {
+  const int n = length();
+  int free_count = 0;
+  int first = 0;      // the open segment's first position
+  S offset = S(0);    // o_q: the active link values from the segment's start
+  S base = S(0);      // the segment's value at offset 0: bound value - o at its bound; 0 while free
+  bool held = false;  // the segment has a bound
+  for (int q = 0; q < n; ++q) {  // < L
+    offset_[q] = offset;
+    if (bound_[q] != kInactive) held = true, base = bound_value(q, bound_[q]) - offset;
+    if (q + 1 < n && link_[q] != kInactive) {
+      offset += link_value(q, link_[q]);
+      continue;
+    }
+    // The segment first..q ends here.
+    const std::int16_t f = held ? std::int16_t(-1) : static_cast<std::int16_t>(free_count);
+    if (!held) {
+      free_first_[free_count] = static_cast<std::int16_t>(first);
+      free_last_[free_count] = static_cast<std::int16_t>(q);
+      ++free_count;
+    }
+    const S value = held ? base : S(0);
+    for (int k = first; k <= q; ++k) {  // < L in all: the segments partition the positions
+      x0_[k + 2] = offset_[k] + value;
+      position_free_[k + 2] = f;
+    }
+    first = q + 1;
+    offset = S(0);
+    held = false;
+  }
+  const S* h0 = ch_.h0();
+  const S* h1 = ch_.h1();
+  const S* h2 = ch_.h2();
+  const S* x0 = x0_ + 2;                        // x0[-2], x0[-1], x0[n], x0[n+1] are 0
+  const std::int16_t* pf = position_free_ + 2;  // pf[-2], pf[-1] are -1
+  for (int f = 0; f < free_count; ++f) {  // < L
+    const int a = free_first_[f];
+    const int b = free_last_[f];
+    // Couplings out of the segment: H(a, a-1) and H(a+1, a-1) with a free
+    // a - 1 (segment f - 1), H(a, a-2) with a free a - 2 (f - 1 or f - 2).
+    const int f1 = pf[a - 1];
+    const int f2 = pf[a - 2];
+    S d = h0[a];
+    S e1 = S(0);
+    S e2 = S(0);
+    if (f1 >= 0) e1 += h1[a - 1];
+    if (f2 >= 0 && f - f2 == 1) e1 += h2[a - 2];
+    if (f2 >= 0 && f - f2 == 2) e2 += h2[a - 2];
+    if (a < b) {
+      d += h0[a + 1];
+      d += S(2) * h1[a];
+      if (f1 >= 0) e1 += h2[a - 1];
+    }
+    for (int q = a + 2; q <= b; ++q) {  // < L in all
+      d += h0[q];
+      d += S(2) * h1[q - 1];
+      d += S(2) * h2[q - 2];
+    }
+    S r = S(0);
+    for (int q = a; q <= b; ++q) {  // < L in all
+      const S hx = ch_.hx(x0, q);
+      r -= hx + g_[q];
+    }
+    band_[f][0] = d;
+    band_[f][1] = e1;
+    band_[f][2] = e2;
+    rhs_[f] = r;
+  }
+  return free_count;
+}
+
+// The reduced system of a chain without link rows (a box): every segment
+// is one position, x0 the bound values (0 where free), and Z'HZ is H's rows
+// and columns of the free positions: free f at q couples with q - 1 and
+// q - 2 where they are free (f - 1 and f - 1 or f - 2). One pass each.
+// Returns the number of free positions.
+template <class D, int L>
+int ChainSolver<D, L>::assemble_box() {
+  const int n = length();
+  int free_count = 0;
+  for (int q = 0; q < n; ++q) {  // < L
+    const bool held = bound_[q] != kInactive;
+    x0_[q + 2] = held ? S(0) + bound_value(q, bound_[q]) : S(0);  // o + value, as for a segment
+    position_free_[q + 2] = held ? std::int16_t(-1) : static_cast<std::int16_t>(free_count);
+    free_count += held ? 0 : 1;
+  }
+  const S* h0 = ch_.h0();
+  const S* h1 = ch_.h1();
+  const S* h2 = ch_.h2();
+  const S* x0 = x0_ + 2;
+  const std::int16_t* pf = position_free_ + 2;
+  for (int q = 0; q < n; ++q) {  // < L
+    const int f = pf[q];
+    if (f < 0) continue;
+    const bool free1 = pf[q - 1] >= 0;
+    const bool free2 = pf[q - 2] >= 0;
+    const S hx = ch_.hx(x0, q);
+    band_[f][0] = h0[q];
+    band_[f][1] = free1 ? h1[q - 1] : (free2 ? h2[q - 2] : S(0));
+    band_[f][2] = free1 && free2 ? h2[q - 2] : S(0);
+    rhs_[f] = S(0) - (hx + g_[q]);
+  }
+  return free_count;
 }
 
 // From the target xe (the equality optimum with the fixed variables only):
@@ -324,42 +392,46 @@ int ChainSolver<D, L>::feasible_start() {
   return moved;
 }
 
-// y_bound, y_link at x (= xe) from r = Hx + g, segment by segment. Returns
-// the largest |sum_s r| of a free segment (0 in exact arithmetic); hx_scale:
+// y_bound, y_link at x (= xe) from r = Hx + g, in one pass: the partial
+// sums of r along each segment are the link multipliers, their total the
+// bound's (negated); links right of the bound add it back. Returns the
+// largest |sum_s r| of a free segment (0 in exact arithmetic); hx_scale:
 // max |(Hx)_q|.
 template <class D, int L>
 typename D::Scalar ChainSolver<D, L>::multipliers(S& hx_scale) {
   S* y_bound = offset_;  // free once xe_ is formed
   S* y_link = rhs_;
-  ch_.multiply(x_, r_);
+  const S* x = x_;  // padded: x[-2], x[-1], x[n], x[n+1] are 0
   S residual = S(0);
-  hx_scale = S(0);
+  S scale = S(0);
+  S partial = S(0);  // sum of r over the open segment so far
+  int held = -1;     // the open segment's bound
   for (int q = 0; q < length(); ++q) {  // < L
-    const S a = std::fabs(r_[q]);
-    if (a > hx_scale) hx_scale = a;
-    r_[q] += g_[q];
+    const S hx = ch_.hx(x, q);
+    const S a = std::fabs(hx);
+    scale = a > scale ? a : scale;
+    const S r = hx + g_[q];
+    r_[q] = r;
+    partial += r;
     y_bound[q] = S(0);
+    if (bound_[q] != kInactive) held = q;
+    if (q + 1 < length() && link_[q] != kInactive) {
+      y_link[q] = partial;
+      continue;
+    }
+    // The segment ends at q: its bound takes -sum r, and so do the links from it on.
     y_link[q] = S(0);
-  }
-  int a = 0;
-  for (int b = 0; b < length(); ++b) {  // < L: segment a..b ends at b
-    if (b + 1 < length() && link_[b] != kInactive) continue;
-    S total = S(0);
-    int held = -1;
-    for (int q = a; q <= b; ++q) {  // < L
-      total += r_[q];
-      if (bound_[q] != kInactive) held = q;
+    if (held >= 0) {
+      const S y_held = -partial;
+      y_bound[held] = y_held;
+      for (int k = held; k < q; ++k) y_link[k] += y_held;  // < L in all
+    } else if (!(std::fabs(partial) <= residual)) {
+      residual = std::fabs(partial);  // NaN too
     }
-    const S y_held = held >= 0 ? -total : S(0);
-    if (held >= 0) y_bound[held] = y_held;
-    if (held < 0 && !(std::fabs(total) <= residual)) residual = std::fabs(total);  // NaN too
-    S partial = S(0);
-    for (int q = a; q < b; ++q) {  // < L
-      partial += r_[q];
-      y_link[q] = partial + (held >= 0 && q >= held ? y_held : S(0));
-    }
-    a = b + 1;
+    partial = S(0);
+    held = -1;
   }
+  hx_scale = scale;
   return residual;
 }
 

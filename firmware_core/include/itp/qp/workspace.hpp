@@ -130,7 +130,8 @@ struct QpWorkspace {
   S row_scale[kCz];                // 1 / |a_c| for violation ranking     [N + M]
   // Rows of M = A L^-T for the working set, one slot per active entry
   // (dense from m_start[slot]; the entries before it are zero and never
-  // read, so they are not stored).                                   [(N+1) x N]
+  // read, so they are not stored). A chain solve borrows rows 0-2 for its
+  // chains' g, lb and ub and clears `factored` (chain_qp.hpp). [(N+1) x N]
   S m_rows[kAz][kNz];
   std::int16_t m_start[kAz];       // first nonzero column of each slot   [N+1]
   // With even_band: 0 / 1 if the slot's row has nonzeros only at even / odd
