@@ -174,6 +174,11 @@ TEST_CASE("bad inputs are rejected with kInvalidInput") {
   SUBCASE("NaN in g") { base(); p.g[1] = nan; }
   SUBCASE("Inf in H") { base(); p.h_band[2][0] = inf; }
   SUBCASE("NaN in A") { base(); p.a_val[0][1] = nan; }
+  SUBCASE("Inf in A") { base(); p.a_val[1][0] = -inf; }
+  // A first value whose square overflows: the row's sum of squares no longer
+  // proves the rest finite (rows_valid tests such a row value by value).
+  SUBCASE("NaN behind a value whose square overflows") { base(); p.a_val[0][0] = 1e200; p.a_val[0][1] = nan; }
+  SUBCASE("Inf behind a value whose square overflows") { base(); p.a_val[0][0] = 1e200; p.a_val[0][1] = inf; }
   SUBCASE("lb > ub") { base(); p.lb[0] = 1.0; p.ub[0] = 0.0; }
   SUBCASE("lbA > ubA") { base(); p.lba[1] = 2.0; p.uba[1] = 1.0; }
   SUBCASE("lb = +inf") { base(); p.lb[2] = inf; }
@@ -188,6 +193,19 @@ TEST_CASE("bad inputs are rejected with kInvalidInput") {
   CHECK_FALSE(in->result.usable());
   CHECK_FALSE(p.reset(9, 1));
   CHECK_FALSE(p.reset(2, 17));
+}
+
+TEST_CASE("a row of finite values whose sum of squares overflows is valid input") {
+  auto in = std::make_unique<qp_test::Instance<D8>>();
+  auto& p = in->problem;
+  REQUIRE(p.reset(3, 1));
+  identity_hessian(p);
+  p.push_row_entry(0, 0, 1e200);
+  p.push_row_entry(0, 2, -1e200);
+  p.lba[0] = -1.0;
+  p.uba[0] = 1.0;
+  CHECK(is_valid(p));
+  CHECK(in->solve() != QpStatus::kInvalidInput);
 }
 
 TEST_CASE("a semidefinite H is solved exactly, kNotConvex needs a negative eigenvalue") {

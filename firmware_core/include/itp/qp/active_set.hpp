@@ -17,6 +17,7 @@
 //
 // Rows whose norm lies outside [2^-E, 2^E] enter scaled by an exact power of
 // two (row_scaling.hpp); all other rows see exactly the old arithmetic.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -213,7 +214,7 @@ struct ActiveSetSolver {
     ws.last_singular = false;
     ws.free_count = kA;
     for (int i = 0; i < kA; ++i) ws.free_slots[i] = static_cast<std::int16_t>(kA - 1 - i);
-    for (int c = 0; c < kC; ++c) ws.active_side[c] = 0;
+    std::fill_n(ws.active_side, kC, std::int8_t(0));  // a memset
   }
 
   // Appends constraint c at `side`; sets last_singular if it is dependent.

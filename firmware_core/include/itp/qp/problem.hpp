@@ -144,39 +144,61 @@ bool is_valid_vectors(const QpProblem<D>& p) {
   return ok && zero_sum == S(0);
 }
 
+// H's band finite: a value v is finite iff v * 0 == 0 (inf * 0 and NaN * 0
+// are NaN), so one NaN-propagating sum checks the band.
+template <class D>
+bool hessian_finite(const QpProblem<D>& p) {
+  using S = typename D::Scalar;
+  S zero_sum = S(0);
+  for (int i = 0; i < p.n; ++i) {
+    for (int k = 0; k <= D::kBandwidth && k <= i; ++k) zero_sum += p.h_band[i][k] * S(0);
+  }
+  return zero_sum == S(0);
+}
+
+// The rows of A: nnz within capacity, columns strictly increasing in
+// 0..n-1, values finite. With kSumSquares also each row's sum_k a_k^2, into
+// sum_sq[r] (M scalars; summed in k order, as rows::row_inverse_norm sums
+// it), so that the solver's row scaling needs no second pass over A.
+template <class D, bool kSumSquares = false>
+bool rows_valid(const QpProblem<D>& p, typename D::Scalar* sum_sq = nullptr) {
+  using S = typename D::Scalar;
+  // Strictly increasing columns lie in 0..n-1 iff the first is >= 0 and the
+  // last < n, so the range is tested once per row. The values: a finite sum
+  // of squares proves them finite (NaN and inf propagate); only a row whose
+  // sum is not finite (a value of 1e200 overflows it) is tested value by
+  // value, v finite iff v * 0 == 0.
+  bool ok = true;
+  for (int r = 0; r < p.m; ++r) {
+    const int nnz = p.a_nnz[r];
+    if (nnz < 0 || nnz > D::kMaxRowNonzeros) return false;
+    const typename D::ColumnIndex* col = p.a_col[r];
+    const S* val = p.a_val[r];
+    S n2 = S(0);
+    if (nnz > 0) {
+      ok = ok & (static_cast<int>(col[0]) >= 0) & (col[nnz - 1] < p.n);
+      n2 += val[0] * val[0];
+    }
+    for (int k = 1; k < nnz; ++k) {
+      ok = ok & (col[k] > col[k - 1]);
+      n2 += val[k] * val[k];
+    }
+    if (!(n2 <= std::numeric_limits<S>::max())) {
+      S zero_sum = S(0);
+      for (int k = 0; k < nnz; ++k) zero_sum += val[k] * S(0);
+      if (!(zero_sum == S(0))) return false;
+    }
+    if constexpr (kSumSquares) sum_sq[r] = n2;
+  }
+  return ok;
+}
+
 // kInvalidInput conditions: sizes beyond capacity, NaN/Inf in H, g or A, NaN
 // bounds, lb > ub, lbA > ubA, a lower bound of +inf or an upper bound of -inf,
 // bad column indices (out of range or not strictly increasing).
 template <class D>
 bool is_valid(const QpProblem<D>& p) {
-  using S = typename D::Scalar;
-  if (!is_valid_vectors(p)) return false;
-  for (int i = 0; i < p.n; ++i) {
-    for (int k = 0; k <= D::kBandwidth && k <= i; ++k) {
-      if (!std::isfinite(p.h_band[i][k])) return false;
-    }
-  }
-  // Rows: columns must satisfy prev < c < n with prev = -1 before the first;
-  // a value v is finite iff v * 0 == 0 (inf * 0 and NaN * 0 are NaN), so one
-  // NaN-propagating sum of v * 0 checks a whole row.
-  bool ok = true;
-  S zero_sum = S(0);
-  // Strictly increasing columns lie in 0..n-1 iff the first is >= 0 and the
-  // last < n, so the range is tested once per row.
-  for (int r = 0; r < p.m; ++r) {
-    const int nnz = p.a_nnz[r];
-    if (nnz < 0 || nnz > D::kMaxRowNonzeros) return false;
-    if (nnz == 0) continue;
-    const typename D::ColumnIndex* col = p.a_col[r];
-    const S* val = p.a_val[r];
-    ok = ok & (static_cast<int>(col[0]) >= 0) & (col[nnz - 1] < p.n);
-    zero_sum += val[0] * S(0);
-    for (int k = 1; k < nnz; ++k) {
-      ok = ok & (col[k] > col[k - 1]);
-      zero_sum += val[k] * S(0);
-    }
-  }
-  return ok && zero_sum == S(0);
+  return is_valid_vectors(p) && hessian_finite(p) && rows_valid(p);
 }
 
 }  // namespace itp::qp

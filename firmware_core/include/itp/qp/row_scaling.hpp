@@ -35,15 +35,10 @@ constexpr int kSafeExponent = std::numeric_limits<S>::digits > 24 ? 16 : 8;
 template <typename S>
 constexpr int kPlainSumExponent = std::numeric_limits<S>::max_exponent / 2;
 
-// 1 / |a|_2 of `count` values (1 for a zero row: its violation |b| is then
-// ranked unscaled, and adding it yields a dependent row, i.e. a dual ray).
+// 1 / |a|_2 of `count` values outside the plain range: rescaled by the
+// largest |a_k| first (1 for a zero row).
 template <typename S>
-S row_inverse_norm(const S* values, int count) {
-  S n2 = S(0);
-  for (int k = 0; k < count; ++k) n2 += values[k] * values[k];
-  const S lo = std::ldexp(S(1), -kPlainSumExponent<S>);
-  const S hi = std::ldexp(S(1), kPlainSumExponent<S>);
-  if (n2 >= lo && n2 <= hi) return S(1) / std::sqrt(n2);
+S rescaled_inverse_norm(const S* values, int count) {
   S amax = S(0);
   for (int k = 0; k < count; ++k) {
     const S a = std::abs(values[k]);
@@ -58,6 +53,26 @@ S row_inverse_norm(const S* values, int count) {
     s2 += v * v;
   }
   return pw / std::sqrt(s2);
+}
+
+// 1 / |a|_2 of `count` values whose sum of squares, summed in k order, is
+// n2 (1 for a zero row: its violation |b| is then ranked unscaled, and adding
+// it yields a dependent row, i.e. a dual ray). The values are read again only
+// when n2 lies outside the plain range.
+template <typename S>
+inline S inverse_norm_of_sum(S n2, const S* values, int count) {
+  const S lo = std::ldexp(S(1), -kPlainSumExponent<S>);
+  const S hi = std::ldexp(S(1), kPlainSumExponent<S>);
+  if (n2 >= lo && n2 <= hi) return S(1) / std::sqrt(n2);
+  return rescaled_inverse_norm(values, count);
+}
+
+// 1 / |a|_2 of `count` values (inverse_norm_of_sum).
+template <typename S>
+S row_inverse_norm(const S* values, int count) {
+  S n2 = S(0);
+  for (int k = 0; k < count; ++k) n2 += values[k] * values[k];
+  return inverse_norm_of_sum(n2, values, count);
 }
 
 // Power of two p with p |a| near 1 when |a| = 1/inverse_norm lies outside

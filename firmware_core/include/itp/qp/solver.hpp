@@ -42,8 +42,9 @@ struct SolveRun : ActiveSetSolver<D> {
   using Base::ws;
 
   // Factor of H (or H + eps I), row scales and block ranges: whenever H or A
-  // may have changed (cold and warm starts).
-  QpStatus factor() {
+  // may have changed (cold and warm starts). sum_sq: each row's sum of
+  // squares (rows_valid, during validation).
+  QpStatus factor(const S* sum_sq) {
     ws.factored = false;
     ws.chain_stride = 0;
     ws.even_band = false;
@@ -55,7 +56,7 @@ struct SolveRun : ActiveSetSolver<D> {
     ws.even_band = band::odd_offsets_zero(p.h_band, p.n);
     for (int j = 0; j < kN; ++j) ws.row_scale[j] = S(1);
     for (int r = 0; r < p.m; ++r) {
-      ws.row_scale[kN + r] = rows::row_inverse_norm(p.a_val[r], p.a_nnz[r]);
+      ws.row_scale[kN + r] = rows::inverse_norm_of_sum(sum_sq[r], p.a_val[r], p.a_nnz[r]);
       const int nnz = p.a_nnz[r];
       ws.row_first_block[r] =
           static_cast<BlockIndex>(nnz > 0 ? p.a_col[r][0] >> kScanBlockShift : 0);
@@ -182,8 +183,12 @@ struct SolveRun : ActiveSetSolver<D> {
     res.certificate_residual = S(0);
     res.certificate_gap = S(0);
     // A hotstart's H and A are those validated at the factorisation (the
-    // documented precondition), so only its vectors are checked again.
-    if (!(start == Start::kHot ? is_valid_vectors(p) : is_valid(p))) {
+    // documented precondition), so only its vectors are checked again. The
+    // rows' sums of squares (for factor()'s row scales) go to row_cert, the
+    // scan's bookkeeping, which every solve resets before its first scan.
+    const bool valid = is_valid_vectors(p) &&
+                       (start == Start::kHot || (hessian_finite(p) && rows_valid<D, true>(p, ws.row_cert)));
+    if (!valid) {
       res.status = QpStatus::kInvalidInput;
       return res.status;
     }
@@ -193,7 +198,7 @@ struct SolveRun : ActiveSetSolver<D> {
         return res.status;
       }
     } else {
-      const QpStatus st = factor();
+      const QpStatus st = factor(ws.row_cert);
       if (st != QpStatus::kOptimal) {
         res.status = st;
         return res.status;
