@@ -142,7 +142,7 @@ class ChainSolver {
   // o_q during a linked chain's equality solve; after it (multipliers()) the
   // bound multipliers
   S offset_[kLz];
-  S x_padded_[kLz + 4] = {};     // [q + 2]: the feasible iterate, 0 outside the chain (ChainData::multiply)
+  S x_padded_[kLz + 4] = {};     // [q + 2]: the feasible iterate, 0 outside the chain (ChainData::hx)
   S* const x_ = x_padded_ + 2;
   S xe_[kLz];                    // equality-constrained optimum for W
   S r_[kLz];                     // H x + g
