@@ -201,4 +201,11 @@ bool is_valid(const QpProblem<D>& p) {
   return is_valid_vectors(p) && hessian_finite(p) && rows_valid(p);
 }
 
+// is_valid(), also giving each row's sum of squares in sum_sq (M scalars,
+// rows_valid), for the solver's row scaling.
+template <class D>
+bool is_valid(const QpProblem<D>& p, typename D::Scalar* sum_sq) {
+  return is_valid_vectors(p) && hessian_finite(p) && rows_valid<D, true>(p, sum_sq);
+}
+
 }  // namespace itp::qp

@@ -186,9 +186,7 @@ struct SolveRun : ActiveSetSolver<D> {
     // documented precondition), so only its vectors are checked again. The
     // rows' sums of squares (for factor()'s row scales) go to row_cert, the
     // scan's bookkeeping, which every solve resets before its first scan.
-    const bool valid = is_valid_vectors(p) &&
-                       (start == Start::kHot || (hessian_finite(p) && rows_valid<D, true>(p, ws.row_cert)));
-    if (!valid) {
+    if (!(start == Start::kHot ? is_valid_vectors(p) : is_valid(p, ws.row_cert))) {
       res.status = QpStatus::kInvalidInput;
       return res.status;
     }
